@@ -1,0 +1,495 @@
+// Orientation and packing of patches into atlas pages (sources in pack.h).
+#include "codec/pack.h"
+
+#include <algorithm>
+#include <chrono>
+#include <climits>
+#include <cmath>
+#include <numeric>
+
+#include "codec/geometry2d.h"
+
+namespace gltfwarp {
+namespace {
+
+// ---- The format's placement arithmetic. format/ owns these definitions; the
+// packer must rasterise exactly the footprint the decoder reproduces.
+constexpr uint32_t kRotSteps = 256;
+constexpr double kPi = 3.14159265358979323846;
+
+void rot_cs(uint32_t code, double& c, double& s) {
+  code %= kRotSteps;
+  if (code % (kRotSteps / 4) == 0) {  // exact quarter turns
+    static const double cs[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
+    c = cs[code / (kRotSteps / 4)][0];
+    s = cs[code / (kRotSteps / 4)][1];
+    return;
+  }
+  const double a = 2 * kPi * double(code) / kRotSteps;
+  c = std::cos(a);
+  s = std::sin(a);
+}
+
+uint32_t rot_code(double radians) {
+  double t = radians / (2 * kPi) * kRotSteps;
+  long long k = std::llround(t) % (long long)kRotSteps;
+  if (k < 0) k += kRotSteps;
+  return uint32_t(k);
+}
+
+double pscale(int32_t step) { return step == 0 ? 1.0 : std::exp2(double(step) / 8.0); }
+
+// ---- Patch footprints.
+
+constexpr int kNone = INT_MIN;
+constexpr double kEps = 1e-3;  // texels: margin against rounding between encoder and decoder
+
+struct Mask {
+  uint32_t code = 0;
+  int bx0 = 0, by0 = 0;  // texel origin of the mask in the rotated, scaled patch frame
+  int cw = 0, ch = 0;    // size in cells
+  std::vector<int> bottom, top;  // per cell column: first occupied row, last + 1 (kNone: empty)
+  uint64_t cells = 0;
+};
+
+struct PatchInfo {
+  uint32_t prim = 0, patch = 0;
+  std::vector<uint32_t> faces;
+  uint32_t base_code = 0;
+  Mask masks[4];
+  int mask_count = 0;
+  uint64_t order_key = 0;
+};
+
+struct TriRaster {
+  // Marks every texel whose square [i, i+1] x [j, j+1] meets the triangle
+  // (conservative), grown by kEps.
+  static void conservative(double ax, double ay, double bx, double by, double cx, double cy,
+                           int tw, int th, std::vector<uint8_t>& bits) {
+    double area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+    if (area < 0) {
+      std::swap(bx, cx);
+      std::swap(by, cy);
+      area = -area;
+    }
+    const int i0 = std::max(0, int(std::floor(std::min({ax, bx, cx}) - kEps)));
+    const int i1 = std::min(tw - 1, int(std::floor(std::max({ax, bx, cx}) + kEps)));
+    const int j0 = std::max(0, int(std::floor(std::min({ay, by, cy}) - kEps)));
+    const int j1 = std::min(th - 1, int(std::floor(std::max({ay, by, cy}) + kEps)));
+    const double px[3] = {ax, bx, cx}, py[3] = {ay, by, cy};
+    double ex[3], ey[3], slack[3];
+    for (int e = 0; e < 3; ++e) {
+      ex[e] = px[(e + 1) % 3] - px[e];
+      ey[e] = py[(e + 1) % 3] - py[e];
+      slack[e] = 0.5 * (std::abs(ex[e]) + std::abs(ey[e])) + kEps * std::hypot(ex[e], ey[e]);
+    }
+    const bool degenerate = !(area > 1e-12);
+    for (int j = j0; j <= j1; ++j) {
+      for (int i = i0; i <= i1; ++i) {
+        bool in = true;
+        if (!degenerate) {
+          const double x = i + 0.5, y = j + 0.5;
+          for (int e = 0; e < 3 && in; ++e)
+            in = ex[e] * (y - py[e]) - ey[e] * (x - px[e]) + slack[e] >= 0;
+        }
+        if (in) bits[size_t(j) * tw + i] = 1;
+      }
+    }
+  }
+};
+
+void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code,
+                double scale, int r, int cell, Mask& m, std::vector<double>& q,
+                std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
+  double c, s;
+  rot_cs(code, c, s);
+  q.resize(faces.size() * 6);
+  double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
+  for (size_t k = 0; k < faces.size(); ++k) {
+    for (int v = 0; v < 3; ++v) {
+      const double x = pr.corner_xy[6 * size_t(faces[k]) + 2 * v];
+      const double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
+      const double qx = scale * (c * x - s * y), qy = scale * (s * x + c * y);
+      q[6 * k + 2 * v] = qx;
+      q[6 * k + 2 * v + 1] = qy;
+      minx = std::min(minx, qx), maxx = std::max(maxx, qx);
+      miny = std::min(miny, qy), maxy = std::max(maxy, qy);
+    }
+  }
+  const int fx0 = int(std::floor(minx - kEps)), fx1 = int(std::floor(maxx + kEps));
+  const int fy0 = int(std::floor(miny - kEps)), fy1 = int(std::floor(maxy + kEps));
+  m.code = code;
+  m.bx0 = fx0 - r;
+  m.by0 = fy0 - r;
+  const int tw = fx1 - fx0 + 1 + 2 * r, th = fy1 - fy0 + 1 + 2 * r;
+  bits.assign(size_t(tw) * th, 0);
+  for (size_t k = 0; k < faces.size(); ++k)
+    TriRaster::conservative(q[6 * k] - m.bx0, q[6 * k + 1] - m.by0, q[6 * k + 2] - m.bx0,
+                            q[6 * k + 3] - m.by0, q[6 * k + 4] - m.bx0, q[6 * k + 5] - m.by0, tw,
+                            th, bits);
+  if (r > 0) {  // Chebyshev dilation by r: rows then columns
+    tmp.assign(bits.size(), 0);
+    for (int j = 0; j < th; ++j) {
+      const uint8_t* row = &bits[size_t(j) * tw];
+      uint8_t* out = &tmp[size_t(j) * tw];
+      for (int i = 0; i < tw; ++i)
+        if (row[i])
+          for (int d = std::max(0, i - r); d <= std::min(tw - 1, i + r); ++d) out[d] = 1;
+    }
+    std::fill(bits.begin(), bits.end(), 0);
+    for (int j = 0; j < th; ++j)
+      for (int i = 0; i < tw; ++i)
+        if (tmp[size_t(j) * tw + i])
+          for (int d = std::max(0, j - r); d <= std::min(th - 1, j + r); ++d)
+            bits[size_t(d) * tw + i] = 1;
+  }
+  m.cw = (tw + cell - 1) / cell;
+  m.ch = (th + cell - 1) / cell;
+  m.bottom.assign(m.cw, kNone);
+  m.top.assign(m.cw, kNone);
+  m.cells = 0;
+  std::vector<uint8_t> cellrow(m.cw);
+  for (int cj = 0; cj < m.ch; ++cj) {
+    std::fill(cellrow.begin(), cellrow.end(), 0);
+    for (int j = cj * cell; j < std::min(th, (cj + 1) * cell); ++j)
+      for (int i = 0; i < tw; ++i)
+        if (bits[size_t(j) * tw + i]) cellrow[i / cell] = 1;
+    for (int ci = 0; ci < m.cw; ++ci) {
+      if (!cellrow[ci]) continue;
+      ++m.cells;
+      if (m.bottom[ci] == kNone) m.bottom[ci] = cj;
+      m.top[ci] = cj + 1;
+    }
+  }
+}
+
+struct Placed {
+  int page = -1, mask = 0, cx = 0, cy = 0;
+};
+
+struct Page {
+  std::vector<int> sky;
+};
+
+// Drops every patch (in order) onto the lowest-waste skyline position of the
+// first page where it fits. Returns false when max_pages would be exceeded.
+bool skyline_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
+                  int hc_max, uint32_t max_pages, std::vector<Placed>& placed,
+                  std::vector<Page>& pages) {
+  pages.clear();
+  placed.assign(patches.size(), Placed{});
+  for (uint32_t pi : order) {
+    PatchInfo& p = patches[pi];
+    bool done = false;
+    for (size_t pg = 0; pg <= pages.size() && !done; ++pg) {
+      if (pg == pages.size()) {
+        if (pages.size() >= max_pages) return false;
+        pages.push_back(Page{std::vector<int>(wc, 0)});
+      }
+      std::vector<int>& sky = pages[pg].sky;
+      long long best_score = LLONG_MAX;
+      int best_m = -1, best_x = 0, best_y = 0;
+      for (int mi = 0; mi < p.mask_count; ++mi) {
+        const Mask& m = p.masks[mi];
+        if (m.cw > wc || m.ch > hc_max) continue;
+        for (int x = 0; x + m.cw <= wc; ++x) {
+          int y = 0;
+          for (int c = 0; c < m.cw; ++c)
+            if (m.bottom[c] != kNone) y = std::max(y, sky[x + c] - m.bottom[c]);
+          if (y + m.ch > hc_max || (long long)y * m.cw >= best_score) continue;
+          long long waste = 0;
+          int top = 0;
+          for (int c = 0; c < m.cw; ++c)
+            if (m.bottom[c] != kNone) {
+              waste += y + m.bottom[c] - sky[x + c];
+              top = std::max(top, y + m.top[c]);
+            }
+          const long long score = waste * 4 + (long long)top * m.cw;
+          if (score < best_score) best_score = score, best_m = mi, best_x = x, best_y = y;
+        }
+      }
+      if (best_m < 0) {
+        if (std::all_of(sky.begin(), sky.end(), [](int v) { return v == 0; })) return false;
+        continue;  // full: try the next page
+      }
+      const Mask& m = p.masks[best_m];
+      for (int c = 0; c < m.cw; ++c)
+        if (m.bottom[c] != kNone) sky[best_x + c] = best_y + m.top[c];
+      placed[pi] = Placed{int(pg), best_m, best_x, best_y};
+      done = true;
+    }
+    if (!done) return false;
+  }
+  return true;
+}
+
+uint32_t round_size(uint64_t v, SizeRounding r) {
+  if (v == 0) v = 1;
+  if (r == SizeRounding::power_of_two) {
+    uint64_t p = 1;
+    while (p < v) p <<= 1;
+    return uint32_t(p);
+  }
+  return uint32_t((v + 3) / 4 * 4);
+}
+
+}  // namespace
+
+const char* to_string(PackStatus s) {
+  switch (s) {
+    case PackStatus::ok: return "ok";
+    case PackStatus::bad_input: return "bad input";
+    case PackStatus::too_large: return "atlas too large even after shrinking";
+  }
+  return "unknown";
+}
+
+void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
+                          std::vector<double>& corner_texel) {
+  const size_t nf = map.patch_of_face.size();
+  corner_texel.resize(nf * 6);
+  for (size_t f = 0; f < nf; ++f) {
+    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
+    const double s = double(map.texel_scale) * pscale(pl.scale_step);
+    double c, sn;
+    rot_cs(pl.rotation, c, sn);
+    for (int v = 0; v < 3; ++v) {
+      const double x = corner_xy[6 * f + 2 * v], y = corner_xy[6 * f + 2 * v + 1];
+      corner_texel[6 * f + 2 * v] = s * (c * x - sn * y) + pl.x;
+      corner_texel[6 * f + 2 * v + 1] = s * (sn * x + c * y) + pl.y;
+    }
+  }
+}
+
+void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps,
+                   PackReport& report) {
+  report.covered_texels = report.overlap_texels = report.outside_texels = 0;
+  if (maps.empty()) return;
+  const uint32_t w = maps[0].atlas_width, h = maps[0].atlas_height;
+  uint32_t pages = 0;
+  for (const UvMap& m : maps) pages = std::max(pages, m.page_count);
+  report.atlas_texels = uint64_t(w) * h * pages;
+  std::vector<std::vector<double>> texels(prims.size());
+  for (size_t i = 0; i < prims.size(); ++i) placed_corner_texels(prims[i].corner_xy, maps[i], texels[i]);
+  std::vector<uint32_t> owner(size_t(w) * h);
+  for (uint32_t page = 0; page < pages; ++page) {
+    std::fill(owner.begin(), owner.end(), 0);
+    uint32_t base = 0;
+    for (size_t i = 0; i < prims.size(); ++i) {
+      const UvMap& m = maps[i];
+      const std::vector<double>& t = texels[i];
+      for (size_t f = 0; f < m.patch_of_face.size(); ++f) {
+        const uint32_t patch = m.patch_of_face[f];
+        if (m.placements[patch].page != page) continue;
+        const uint32_t id = base + patch + 1;
+        double ax = t[6 * f], ay = t[6 * f + 1], bx = t[6 * f + 2], by = t[6 * f + 3];
+        double cx = t[6 * f + 4], cy = t[6 * f + 5];
+        double area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
+        if (area == 0) continue;
+        if (area < 0) std::swap(bx, cx), std::swap(by, cy);
+        const long long i0 = (long long)std::ceil(std::min({ax, bx, cx}) - 0.5);
+        const long long i1 = (long long)std::floor(std::max({ax, bx, cx}) - 0.5);
+        const long long j0 = (long long)std::ceil(std::min({ay, by, cy}) - 0.5);
+        const long long j1 = (long long)std::floor(std::max({ay, by, cy}) - 0.5);
+        for (long long j = j0; j <= j1; ++j)
+          for (long long ix = i0; ix <= i1; ++ix) {
+            const double x = double(ix) + 0.5, y = double(j) + 0.5;
+            if ((bx - ax) * (y - ay) - (by - ay) * (x - ax) < 0) continue;
+            if ((cx - bx) * (y - by) - (cy - by) * (x - bx) < 0) continue;
+            if ((ax - cx) * (y - cy) - (ay - cy) * (x - cx) < 0) continue;
+            if (ix < 0 || j < 0 || ix >= (long long)w || j >= (long long)h) {
+              ++report.outside_texels;
+              continue;
+            }
+            uint32_t& o = owner[size_t(j) * w + size_t(ix)];
+            if (o == 0) {
+              o = id;
+              ++report.covered_texels;
+            } else if (o != id) {
+              ++report.overlap_texels;
+            }
+          }
+      }
+      base += m.patch_count;
+    }
+  }
+  report.fill = report.atlas_texels ? double(report.covered_texels) / double(report.atlas_texels) : 0;
+}
+
+PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options,
+                      PackResult& result) {
+  const auto t0 = std::chrono::steady_clock::now();
+  result = PackResult{};
+  if (!(options.texel_scale > 0) || options.max_atlas_size < 4) return PackStatus::bad_input;
+  std::vector<PatchInfo> patches;
+  std::vector<uint32_t> base(prims.size(), 0);
+  for (size_t i = 0; i < prims.size(); ++i) {
+    const PackPrimitive& pr = prims[i];
+    if (!pr.mesh) return PackStatus::bad_input;
+    const uint32_t nf = pr.mesh->face_count();
+    if (pr.patch_of_face.size() != nf || pr.corner_xy.size() != size_t(6) * nf)
+      return PackStatus::bad_input;
+    base[i] = uint32_t(patches.size());
+    for (uint32_t p = 0; p < pr.patch_count; ++p) {
+      PatchInfo info;
+      info.prim = uint32_t(i);
+      info.patch = p;
+      patches.push_back(std::move(info));
+    }
+    for (uint32_t f = 0; f < nf; ++f) {
+      if (pr.patch_of_face[f] >= pr.patch_count) return PackStatus::bad_input;
+      patches[base[i] + pr.patch_of_face[f]].faces.push_back(f);
+    }
+  }
+  // Orientation: minimal-area rectangle of each patch's hull, quantized.
+  std::vector<Vec2> pts;
+  for (PatchInfo& p : patches) {
+    const PackPrimitive& pr = prims[p.prim];
+    pts.clear();
+    for (uint32_t f : p.faces)
+      for (int v = 0; v < 3; ++v)
+        pts.push_back(Vec2{pr.corner_xy[6 * size_t(f) + 2 * v], pr.corner_xy[6 * size_t(f) + 2 * v + 1]});
+    const std::vector<Vec2> hull = convex_hull(pts);
+    const OrientedRect rect = min_area_rect(hull);
+    // Rotating by -angle makes the rectangle axis-aligned; check both signs
+    // against the quantized table so a convention slip costs nothing.
+    double best = 1e300;
+    for (double a : {-rect.angle, rect.angle}) {
+      const uint32_t code = rot_code(a);
+      double c, s;
+      rot_cs(code, c, s);
+      double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+      for (const Vec2& h : hull) {
+        const double x = c * h.x - s * h.y, y = s * h.x + c * h.y;
+        x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+      }
+      const double area = (x1 - x0) * (y1 - y0);
+      if (area < best) best = area, p.base_code = code;
+    }
+  }
+  const int r = int((options.gutter + 1) / 2);
+  double scale = double(float(options.texel_scale));
+  std::vector<double> q;
+  std::vector<uint8_t> bits, tmp;
+  std::vector<Placed> placed;
+  std::vector<Page> pages;
+  const uint32_t max_size = options.max_atlas_size;
+  for (uint32_t attempt = 0; attempt <= options.max_retries; ++attempt) {
+    // Rough footprint at this scale (triangle area plus the dilated bounding
+    // box rim), to choose the cell and to shrink early.
+    int cell = int(options.cell);
+    double texel_area = 0;
+    for (const PatchInfo& p : patches) {
+      const PackPrimitive& pr = prims[p.prim];
+      double area = 0, x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+      for (uint32_t f : p.faces) {
+        const double* c = &pr.corner_xy[6 * size_t(f)];
+        area += 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+        for (int v = 0; v < 3; ++v) {
+          x0 = std::min(x0, c[2 * v]), x1 = std::max(x1, c[2 * v]);
+          y0 = std::min(y0, c[2 * v + 1]), y1 = std::max(y1, c[2 * v + 1]);
+        }
+      }
+      texel_area += area * scale * scale + (x1 - x0 + y1 - y0) * scale * (2 * r + 1) + 4.0 * r * r;
+    }
+    const double cap = double(max_size) * max_size * options.max_pages;
+    if (texel_area > 0.9 * cap) {
+      scale = double(float(scale * std::max(0.5, std::min(options.shrink_factor,
+                                                           std::sqrt(0.8 * cap / texel_area)))));
+      ++result.report.shrink_retries;
+      continue;
+    }
+    if (cell <= 0) {
+      const double side = std::sqrt(texel_area / 0.8);
+      cell = side <= 1536 ? 1 : side <= 3072 ? 2 : 4;
+    }
+    uint64_t cell_area = 0;
+    for (PatchInfo& p : patches) {
+      p.mask_count = options.rotate_90 ? 4 : 1;
+      for (int k = 0; k < p.mask_count; ++k)
+        build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
+                   scale, r, cell, p.masks[k], q, bits, tmp);
+      cell_area += p.masks[0].cells;
+      p.order_key = uint64_t(std::max(p.masks[0].ch, p.masks[0].cw)) << 32 | p.masks[0].cells;
+    }
+    std::vector<uint32_t> order(patches.size());
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+      return patches[a].order_key > patches[b].order_key;
+    });
+    const int hc_max = int(max_size) / cell;
+    // Candidate page widths around the square that would hold the patches at 80%.
+    std::vector<uint32_t> widths;
+    const double side = std::sqrt(double(cell_area) / 0.8) * cell;
+    int min_w = 0;  // narrowest page every patch fits in some turn of
+    for (PatchInfo& p : patches) {
+      int m = INT_MAX;
+      for (int k = 0; k < p.mask_count; ++k) m = std::min(m, p.masks[k].cw);
+      min_w = std::max(min_w, m * cell);
+    }
+    for (double f : {0.8, 0.95, 1.1, 1.3}) {
+      uint32_t w = round_size(uint64_t(std::max(double(min_w), side * f)), options.rounding);
+      w = std::min(w, max_size);
+      if (std::find(widths.begin(), widths.end(), w) == widths.end()) widths.push_back(w);
+    }
+    if (options.max_pages > 1 && std::find(widths.begin(), widths.end(), max_size) == widths.end())
+      widths.push_back(max_size);
+    uint64_t best_area = UINT64_MAX;
+    uint32_t best_w = 0, best_h = 0, best_pages = 0;
+    std::vector<Placed> best_placed;
+    for (uint32_t w : widths) {
+      const int wc = int(w) / cell;
+      if (!skyline_pack(patches, order, wc, hc_max, options.max_pages, placed, pages)) continue;
+      int hc = 0;
+      for (const Page& pg : pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
+      const uint32_t h = round_size(uint64_t(hc) * cell, options.rounding);
+      if (h > max_size) continue;
+      const uint64_t area = uint64_t(w) * h * pages.size();
+      const bool squarer = area == best_area && std::max(w, h) < std::max(best_w, best_h);
+      if (area < best_area || squarer) {
+        best_area = area, best_w = w, best_h = h, best_pages = uint32_t(pages.size());
+        best_placed = placed;
+      }
+    }
+    if (best_area == UINT64_MAX) {
+      scale = double(float(scale * options.shrink_factor));
+      ++result.report.shrink_retries;
+      continue;
+    }
+    // Placements.
+    result.maps.resize(prims.size());
+    for (size_t i = 0; i < prims.size(); ++i) {
+      UvMap& m = result.maps[i];
+      m.texel_scale = float(scale);
+      m.atlas_width = best_w;
+      m.atlas_height = best_h;
+      m.page_count = best_pages;
+      m.patch_count = prims[i].patch_count;
+      m.patch_of_face.assign(prims[i].patch_of_face.begin(), prims[i].patch_of_face.end());
+      m.placements.assign(m.patch_count, PatchPlacement{});
+    }
+    for (size_t pi = 0; pi < patches.size(); ++pi) {
+      const PatchInfo& p = patches[pi];
+      const Placed& pl = best_placed[pi];
+      const Mask& mk = p.masks[pl.mask];
+      PatchPlacement& out = result.maps[p.prim].placements[p.patch];
+      out.rotation = mk.code;
+      out.x = pl.cx * cell - mk.bx0;
+      out.y = pl.cy * cell - mk.by0;
+      out.page = uint32_t(pl.page);
+      out.scale_step = 0;
+    }
+    PackReport& rep = result.report;
+    rep.atlas_width = best_w;
+    rep.atlas_height = best_h;
+    rep.page_count = best_pages;
+    rep.patch_count = uint32_t(patches.size());
+    rep.texel_scale = scale;
+    measure_atlas(prims, result.maps, rep);
+    rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return PackStatus::ok;
+  }
+  return PackStatus::too_large;
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,59 @@
+// Texel density of a source texture map: how many texels per model unit the
+// original UVs give each triangle, and the global texel scale ("--texel-density
+// auto") that keeps the original's detail in the rebuilt atlas.
+//
+// Source: the density measure is the square root of the ratio of a triangle's
+// texel-space area to its 3D area (the isotropic scale of the affine map
+// 3D -> texels, as in the "texel density" of Sander et al., "Texture Mapping
+// Progressive Meshes", SIGGRAPH 2001, and xatlas' texelsPerUnit).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/mesh.h"
+
+namespace gltfwarp {
+
+// One primitive as it samples one source image through TEXCOORD_0.
+struct DensityPrimitive {
+  const TriMesh* mesh = nullptr;
+  std::span<const float> source_uv;  // 2 per corner (3 per face), transform already baked in
+  uint32_t image_width = 0;          // largest image the primitive samples through TEXCOORD_0
+  uint32_t image_height = 0;
+};
+
+enum class DensityMode : uint8_t {
+  preserve_texel_count,  // scale whose atlas holds as many texels as the source map used
+  percentile,            // area-weighted percentile of per-triangle density (keeps the detail
+                         // where the artist put it, costs texels elsewhere)
+};
+
+struct TexelDensityOptions {
+  DensityMode mode = DensityMode::preserve_texel_count;  // default: same texel budget as source
+  double percentile = 0.9;                               // for DensityMode::percentile, in (0, 1]
+  double min_scale = 1e-9;                               // floor for the result (texels per unit)
+};
+
+struct TexelDensityReport {
+  double texel_scale = 0;     // chosen texels per model unit
+  double mean_density = 0;    // area-weighted mean of per-triangle density
+  double p50_density = 0;     // area-weighted median
+  double p90_density = 0;     // area-weighted 90th percentile
+  double max_density = 0;
+  double source_texels = 0;   // sum of triangles' texel-space areas (overlaps count twice)
+  double surface_area = 0;    // sum of triangles' 3D areas
+  uint32_t triangles = 0;     // triangles with non-zero 3D area
+  uint32_t degenerate_uv = 0; // triangles with zero texel-space area
+};
+
+// Texels per model unit of each face (0 for faces without 3D area).
+std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
+                                           uint32_t image_width, uint32_t image_height);
+
+// Global texel scale for a set of primitives that share an atlas.
+TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,
+                                    const TexelDensityOptions& options = {});
+
+}  // namespace gltfwarp

@@ -1,0 +1,240 @@
+// Packing: no overlap, patches inside the page, gutters kept, fill, sizes.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "codec/pack.h"
+
+namespace gltfwarp {
+namespace {
+
+// A set of generated patches: star-shaped blobs (ragged), rectangles, strips.
+struct GenPrim {
+  TriMesh mesh;
+  std::vector<uint32_t> patch_of_face;
+  std::vector<double> corner_xy;
+  uint32_t patch_count = 0;
+  PackPrimitive view() const {
+    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy};
+  }
+};
+
+void add_tri(GenPrim& g, uint32_t patch, double ax, double ay, double bx, double by, double cx,
+             double cy) {
+  const double xy[6] = {ax, ay, bx, by, cx, cy};
+  for (int v = 0; v < 3; ++v) {
+    g.mesh.indices.push_back(g.mesh.vertex_count());
+    g.mesh.positions.insert(g.mesh.positions.end(),
+                            {float(xy[2 * v]), float(xy[2 * v + 1]), 0.0f});
+    g.corner_xy.push_back(xy[2 * v]);
+    g.corner_xy.push_back(xy[2 * v + 1]);
+  }
+  g.patch_of_face.push_back(patch);
+}
+
+GenPrim generate(uint32_t patches, uint32_t seed, double size = 10.0) {
+  GenPrim g;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  for (uint32_t p = 0; p < patches; ++p) {
+    const double cx = u(rng) * 100, cy = u(rng) * 100, rot = u(rng) * 6.28;
+    const double sz = size * (0.3 + 1.4 * u(rng));
+    const int kind = int(rng() % 3);
+    auto tr = [&](double x, double y, double& ox, double& oy) {
+      ox = cx + std::cos(rot) * x - std::sin(rot) * y;
+      oy = cy + std::sin(rot) * x + std::cos(rot) * y;
+    };
+    if (kind == 0) {  // star blob, fan-triangulated
+      const int n = 12;
+      double rad[n];
+      for (int k = 0; k < n; ++k) rad[k] = sz * (0.5 + 0.5 * u(rng));
+      for (int k = 0; k < n; ++k) {
+        const double a0 = 6.2831853 * k / n, a1 = 6.2831853 * (k + 1) / n;
+        double x0, y0, x1, y1, x2, y2;
+        tr(0, 0, x0, y0);
+        tr(rad[k] * std::cos(a0), rad[k] * std::sin(a0), x1, y1);
+        tr(rad[(k + 1) % n] * std::cos(a1), rad[(k + 1) % n] * std::sin(a1), x2, y2);
+        add_tri(g, p, x0, y0, x1, y1, x2, y2);
+      }
+    } else {  // rectangle grid (kind 1) or thin strip (kind 2)
+      const double w = sz * (kind == 2 ? 3.0 : 1.0), h = sz * (kind == 2 ? 0.25 : 0.7);
+      const int nx = 4, ny = 2;
+      for (int j = 0; j < ny; ++j)
+        for (int i = 0; i < nx; ++i) {
+          double x[4], y[4];
+          tr(w * i / nx, h * j / ny, x[0], y[0]);
+          tr(w * (i + 1) / nx, h * j / ny, x[1], y[1]);
+          tr(w * (i + 1) / nx, h * (j + 1) / ny, x[2], y[2]);
+          tr(w * i / nx, h * (j + 1) / ny, x[3], y[3]);
+          add_tri(g, p, x[0], y[0], x[1], y[1], x[2], y[2]);
+          add_tri(g, p, x[0], y[0], x[2], y[2], x[3], y[3]);
+        }
+    }
+  }
+  g.patch_count = patches;
+  return g;
+}
+
+// Conservative footprint of every patch at its final placement; checks that
+// no texel belongs to two patches, every footprint is inside its page, and
+// different patches stay `gutter` empty texels apart.
+void check_footprints(std::span<const PackPrimitive> prims, const PackResult& res,
+                      uint32_t gutter) {
+  const uint32_t w = res.report.atlas_width, h = res.report.atlas_height;
+  for (uint32_t page = 0; page < res.report.page_count; ++page) {
+    std::vector<int32_t> owner(size_t(w) * h, -1);
+    int32_t base = 0;
+    uint64_t inside_fail = 0, shared = 0;
+    for (size_t i = 0; i < prims.size(); ++i) {
+      std::vector<double> t;
+      placed_corner_texels(prims[i].corner_xy, res.maps[i], t);
+      for (size_t f = 0; f < res.maps[i].patch_of_face.size(); ++f) {
+        const uint32_t patch = res.maps[i].patch_of_face[f];
+        if (res.maps[i].placements[patch].page != page) continue;
+        double x0 = 1e30, x1 = -1e30, y0 = 1e30, y1 = -1e30;
+        for (int v = 0; v < 3; ++v) {
+          x0 = std::min(x0, t[6 * f + 2 * v]), x1 = std::max(x1, t[6 * f + 2 * v]);
+          y0 = std::min(y0, t[6 * f + 2 * v + 1]), y1 = std::max(y1, t[6 * f + 2 * v + 1]);
+        }
+        // bounding-box texels are a superset of the triangle's footprint only
+        // for small triangles; use the texels the triangle's centre-fan touches
+        for (long long j = (long long)std::floor(y0); j <= (long long)std::floor(y1); ++j)
+          for (long long i2 = (long long)std::floor(x0); i2 <= (long long)std::floor(x1); ++i2) {
+            // square [i2, i2+1] x [j, j+1] against the triangle: sample 5x5 points
+            bool hit = false;
+            const double* p = &t[6 * f];
+            double area = (p[2] - p[0]) * (p[5] - p[1]) - (p[3] - p[1]) * (p[4] - p[0]);
+            for (int sy = 0; sy <= 4 && !hit; ++sy)
+              for (int sx = 0; sx <= 4 && !hit; ++sx) {
+                const double x = i2 + sx / 4.0, y = j + sy / 4.0;
+                double e0 = (p[2] - p[0]) * (y - p[1]) - (p[3] - p[1]) * (x - p[0]);
+                double e1 = (p[4] - p[2]) * (y - p[3]) - (p[5] - p[3]) * (x - p[2]);
+                double e2 = (p[0] - p[4]) * (y - p[5]) - (p[1] - p[5]) * (x - p[4]);
+                if (area < 0) e0 = -e0, e1 = -e1, e2 = -e2;
+                hit = e0 >= 0 && e1 >= 0 && e2 >= 0;
+              }
+            if (!hit) continue;
+            if (i2 < 0 || j < 0 || i2 >= (long long)w || j >= (long long)h) {
+              ++inside_fail;
+              continue;
+            }
+            int32_t& o = owner[size_t(j) * w + size_t(i2)];
+            if (o >= 0 && o != base + int32_t(patch)) ++shared;
+            o = base + int32_t(patch);
+          }
+      }
+      base += int32_t(res.maps[i].patch_count);
+    }
+    EXPECT_EQ(inside_fail, 0u) << "page " << page;
+    EXPECT_EQ(shared, 0u) << "page " << page;
+    uint64_t near = 0;
+    const int g = int(gutter);
+    for (int j = 0; j < int(h); ++j)
+      for (int i = 0; i < int(w); ++i) {
+        const int32_t o = owner[size_t(j) * w + i];
+        if (o < 0) continue;
+        for (int dj = -g; dj <= g; ++dj)
+          for (int di = -g; di <= g; ++di) {
+            const int x = i + di, y = j + dj;
+            if (x < 0 || y < 0 || x >= int(w) || y >= int(h)) continue;
+            const int32_t o2 = owner[size_t(y) * w + x];
+            if (o2 >= 0 && o2 != o) ++near;
+          }
+      }
+    EXPECT_EQ(near, 0u) << "texels of different patches closer than the gutter, page " << page;
+  }
+}
+
+TEST(Pack, NoOverlapGutterInsideAndFill) {
+  const GenPrim a = generate(60, 1), b = generate(40, 2, 6.0);
+  const PackPrimitive prims[2] = {a.view(), b.view()};
+  PackOptions opt;
+  opt.texel_scale = 4.0;
+  opt.gutter = 4;
+  PackResult res;
+  ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+  const PackReport& r = res.report;
+  EXPECT_EQ(r.overlap_texels, 0u);
+  EXPECT_EQ(r.outside_texels, 0u);
+  EXPECT_EQ(r.patch_count, 100u);
+  EXPECT_EQ(r.atlas_width % 4, 0u);
+  EXPECT_EQ(r.atlas_height % 4, 0u);
+  EXPECT_EQ(r.page_count, 1u);
+  ASSERT_EQ(res.maps.size(), 2u);
+  EXPECT_EQ(res.maps[1].placements.size(), 40u);
+  check_footprints(prims, res, opt.gutter);
+  std::printf("fill %.3f atlas %ux%u covered %llu, %.1f ms\n", r.fill, r.atlas_width,
+              r.atlas_height, (unsigned long long)r.covered_texels, r.seconds * 1e3);
+  EXPECT_GT(r.fill, 0.55);
+}
+
+TEST(Pack, PowerOfTwoAndShrinkToMaxSize) {
+  const GenPrim a = generate(50, 3);
+  const PackPrimitive prims[1] = {a.view()};
+  PackOptions opt;
+  opt.texel_scale = 50.0;  // far too large for 512
+  opt.max_atlas_size = 512;
+  opt.rounding = SizeRounding::power_of_two;
+  PackResult res;
+  ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+  const PackReport& r = res.report;
+  EXPECT_LE(r.atlas_width, 512u);
+  EXPECT_LE(r.atlas_height, 512u);
+  EXPECT_EQ(r.atlas_width & (r.atlas_width - 1), 0u);
+  EXPECT_EQ(r.atlas_height & (r.atlas_height - 1), 0u);
+  EXPECT_LT(r.texel_scale, 50.0);
+  EXPECT_GT(r.shrink_retries, 0u);
+  EXPECT_FLOAT_EQ(res.maps[0].texel_scale, float(r.texel_scale));
+  EXPECT_EQ(r.overlap_texels, 0u);
+  EXPECT_EQ(r.outside_texels, 0u);
+  check_footprints(prims, res, opt.gutter);
+}
+
+TEST(Pack, SeveralPages) {
+  const GenPrim a = generate(80, 4);
+  const PackPrimitive prims[1] = {a.view()};
+  PackOptions opt;
+  opt.texel_scale = 6.0;
+  opt.max_atlas_size = 512;
+  opt.max_pages = 8;
+  PackResult res;
+  ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+  EXPECT_GT(res.report.page_count, 1u);
+  EXPECT_EQ(res.report.shrink_retries, 0u);
+  EXPECT_EQ(res.maps[0].page_count, res.report.page_count);
+  EXPECT_EQ(res.report.overlap_texels, 0u);
+  EXPECT_EQ(res.report.outside_texels, 0u);
+  check_footprints(prims, res, opt.gutter);
+}
+
+TEST(Pack, BadInput) {
+  GenPrim a = generate(3, 5);
+  a.patch_of_face[0] = 7;
+  const PackPrimitive prims[1] = {a.view()};
+  PackOptions opt;
+  opt.texel_scale = 1.0;
+  PackResult res;
+  EXPECT_EQ(pack_atlas(prims, opt, res), PackStatus::bad_input);
+  opt.texel_scale = 0;
+  a.patch_of_face[0] = 0;
+  EXPECT_EQ(pack_atlas(prims, opt, res), PackStatus::bad_input);
+}
+
+TEST(Pack, ThousandsOfPatchesAreFast) {
+  const GenPrim a = generate(3000, 6, 3.0);
+  const PackPrimitive prims[1] = {a.view()};
+  PackOptions opt;
+  opt.texel_scale = 6.0;
+  PackResult res;
+  ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+  EXPECT_EQ(res.report.overlap_texels, 0u);
+  EXPECT_EQ(res.report.outside_texels, 0u);
+  std::printf("3000 patches: %.1f ms, fill %.3f, atlas %ux%u\n", res.report.seconds * 1e3,
+              res.report.fill, res.report.atlas_width, res.report.atlas_height);
+  EXPECT_LT(res.report.seconds, 3.0);
+}
+
+}  // namespace
+}  // namespace gltfwarp
