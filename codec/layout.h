@@ -5,29 +5,57 @@
 // comparison decides anything here; the order is derived from connectivity.
 //
 // Replay semantics (normative; spec/ describes the same steps):
+//  * Validation, in this order: positions and indices come in whole triples
+//    and every index names a vertex (else bad_mesh); patch_of_face has one
+//    entry per face, every entry is < patch_count and every patch has a face
+//    (else bad_patch_id); scanning faces in ascending order, the patch ids
+//    appear for the first time in the order 0, 1, 2, ... (else patch_order).
 //  * Patches are numbered 0..P-1 in order of their lowest face index; the
-//    seed of a patch is its lowest face. patch_of_face[f] < patch_count.
-//  * The seed face (v0, v1, v2) is placed rigidly: v0 at the origin, v1 on +x
-//    at |v0v1|, v2 above the x axis with its true 3D distances.
+//    seed of a patch is its lowest face. Patches are laid out independently.
+//  * Lengths: L(u, w) = sqrt(dx*dx + dy*dy + dz*dz) with d = pos[u] - pos[w]
+//    (each float coordinate converted to double first), summed in that order.
+//  * The seed face (v0, v1, v2) is placed rigidly: v0 at the origin; v1 (if
+//    it differs from v0) at (L01, 0); v2 (if it differs from both) at
+//    x = (L01^2 + L02^2 - L12^2) / (2 L01), y = sqrt(max(L02^2 - x^2, 0)),
+//    or at (0, L02) when L01 == 0. If v1 == v0, v2 goes to (L02, 0).
 //  * Then rounds. At the start of a round, the candidate list is the sorted
-//    set of unplaced vertices q that have at least one face of the patch whose
-//    other two vertices are placed. Candidates are processed in ascending
-//    vertex id. Each q is placed from the faces of the patch that contain q
-//    and whose other two vertices are placed at that moment (so vertices
-//    placed earlier in the same round count), in ascending face id: the
-//    weighted average of the unfoldings across those faces' placed edges,
-//    then a fixed number of relaxation steps. The round ends when its list is
-//    done; the replay ends when a round's list is empty.
+//    set of unplaced vertices q that have at least one face of the patch
+//    that contains q exactly once and whose other two vertices are placed.
+//    Candidates are processed in ascending vertex id. Each q is placed from
+//    the faces of the patch that contain q exactly once and whose other two
+//    vertices are placed at that moment (so vertices placed earlier in the
+//    same round count), in ascending face id (place_vertex below). The round
+//    ends when its list is done; the replay ends when a round's list is empty.
 //  * Every face's three vertices must end up placed, otherwise the partition
 //    is invalid (LayoutStatus::unreachable_face).
-// All arithmetic is IEEE double with + - * / and sqrt only (no libm
-// transcendental functions, no FMA contraction), so it is bit-exact.
+//  * Placement of q from faces i = 1..n, each written (q, a_i, b_i) in the
+//    face's cyclic order starting at q, with 2D positions A_i, B_i, and
+//    la = L(q, a), lb = L(q, b), lab2 = L(a, b)^2:
+//      unfolding (the 3D triangle, scaled onto the placed edge, on its left):
+//        if lab2 > 0: s = (la^2 - lb^2 + lab2) / (2 lab2),
+//                     t = sqrt(max(la^2 / lab2 - s^2, 0)),
+//                     U = A + s (B - A) + t perp(B - A), perp(x, y) = (-y, x)
+//        else:        U = (A + B) / 2
+//      weight (1 when the placed edge kept its 3D length, less otherwise):
+//        d = |B - A|, e = 2 d sqrt(lab2) / (d^2 + lab2) (e = 1 if d^2 + lab2
+//        == 0), w = e * e
+//      start: p = sum w_i U_i / sum w_i, accumulated in face order, or the
+//        plain mean of the U_i when sum w_i == 0;
+//      relaxation, kRelaxSteps times (stress majorization of the edges q-a_i,
+//        q-b_i with weights 1 / l^2): over the edges (A_i, la_i), (B_i, lb_i)
+//        in face order, skipping edges with l == 0 or r = |p - X| == 0,
+//        p' = sum (1/l^2) (X + (l / r) (p - X)) / sum (1/l^2); p = p' unless
+//        no edge was used.
+//    The comparisons with 0 above and the max() are the only float
+//    comparisons; they guard divisions and square roots of rounded values.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "codec/geometry2d.h"
 #include "codec/mesh.h"
 
 namespace gltfwarp {
@@ -45,5 +73,39 @@ const char* to_string(LayoutStatus s);
 // position of that corner's vertex in model units.
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy);
+
+// Building blocks of the replay, exposed so that the encoder's growth
+// (codec/embed.cpp) computes exactly the same floats for the same inputs.
+inline constexpr int kRelaxSteps = 2;
+
+inline double length3_sq(const TriMesh& m, uint32_t u, uint32_t w) {
+  const float* p = m.positions.data();
+  const double dx = double(p[3 * u]) - double(p[3 * w]);
+  const double dy = double(p[3 * u + 1]) - double(p[3 * w + 1]);
+  const double dz = double(p[3 * u + 2]) - double(p[3 * w + 2]);
+  return dx * dx + dy * dy + dz * dz;
+}
+
+// One face used to place q: the placed edge (A, B) and q's 3D distances.
+struct Unfolding {
+  Vec2 a, b;
+  double la = 0, lb = 0, lab2 = 0;
+};
+inline Unfolding make_unfolding(const TriMesh& m, uint32_t q, uint32_t va, uint32_t vb, Vec2 a,
+                                Vec2 b) {
+  Unfolding u;
+  u.a = a;
+  u.b = b;
+  u.la = std::sqrt(length3_sq(m, q, va));
+  u.lb = std::sqrt(length3_sq(m, q, vb));
+  u.lab2 = length3_sq(m, va, vb);
+  return u;
+}
+
+// The placement rule above (unfolding, weighted average, relaxation).
+Vec2 place_vertex(std::span<const Unfolding> faces);
+
+// The seed rule above: positions of the seed face's three corners.
+void place_seed(const TriMesh& m, uint32_t face, Vec2 out[3]);
 
 }  // namespace gltfwarp

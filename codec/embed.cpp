@@ -1,0 +1,664 @@
+// The partition (encoder only). Growth follows Sorkine & Cohen-Or, "Warped
+// Textures for UV Mapping Encoding" (2001), section 3: a seed triangle laid
+// flat, then breadth-first rounds in which each candidate vertex is placed by
+// the shared rule (layout.h: place_vertex) and rejected if one of its
+// triangles exceeds tau, flips or overlaps the patch. Compact mode (issue 8)
+// first clusters faces into near-disc regions by normal-cone region growing
+// on geodesic distance (in the spirit of Cohen-Steiner, Alliez & Desbrun,
+// "Variational Shape Approximation", 2004, with a single greedy pass), grows
+// patches inside each region, then merges adjacent patches while the union
+// still replays within tau and stays compact.
+//
+// Consistency with the replay (why the encoder's floats equal the decoder's):
+// when candidate q is processed, let A be the patch-available faces holding q
+// once with both other vertices placed. The encoder places q from a subset S
+// of A and closes A \ S for this patch forever; q is accepted only if S holds
+// a face that was available at the start of the round. Then the faces of the
+// final patch that hold q with both others placed at that moment are exactly
+// S, so the replay computes the same point. A rejected q closes the faces of
+// A that were available at the round start (so the replay's candidate list
+// for the round cannot contain q); its faces that opened mid-round stay open
+// and q may join in the next round. The test EmbedEqualsReplay checks this.
+#include "codec/embed.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <queue>
+
+#include "codec/distortion.h"
+#include "codec/geometry2d.h"
+#include "codec/topology.h"
+
+namespace gltfwarp {
+namespace {
+
+double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(length3_sq(m, u, w)); }
+
+double face_area3(const TriMesh& m, uint32_t f) {
+  const float* p = m.positions.data();
+  const uint32_t* t = &m.indices[3 * f];
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+    e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+  }
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+// Distortion of face f with its corners at P (paper's measure).
+double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]) {
+  const uint32_t* t = &m.indices[3 * f];
+  double l3[3], l2[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    l3[k] = length3(m, t[a], t[b]);
+    const double dx = P[a].x - P[b].x, dy = P[a].y - P[b].y;
+    l2[k] = std::sqrt(dx * dx + dy * dy);
+  }
+  return triangle_distortion(l3, l2);
+}
+
+// A uniform hash grid over the 2D triangles of the patch being grown, reset
+// per patch by a generation stamp so nothing is cleared.
+class TriangleGrid {
+ public:
+  void init(size_t face_count, double cell) {
+    size_t nb = 1024;
+    while (nb < 2 * face_count && nb < (size_t{1} << 24)) nb <<= 1;
+    head_.assign(nb, 0);
+    head_gen_.assign(nb, 0);
+    seen_.assign(face_count, 0);
+    inv_cell_ = cell > 0 ? 1.0 / cell : 1.0;
+  }
+  void reset() {
+    ++gen_;
+    entries_.clear();
+    big_.clear();
+    all_.clear();
+  }
+  void insert(uint32_t f, const Vec2 P[3]) {
+    all_.push_back(f);
+    int x0, y0, x1, y1;
+    if (!range(P, x0, y0, x1, y1)) {
+      big_.push_back(f);
+      return;
+    }
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const uint64_t key = pack(x, y);
+        const size_t b = bucket(key);
+        if (head_gen_[b] != gen_) {
+          head_gen_[b] = gen_;
+          head_[b] = 0;
+        }
+        entries_.push_back({key, f, head_[b]});
+        head_[b] = static_cast<uint32_t>(entries_.size());  // 1-based, 0 = end
+      }
+  }
+  // True if triangle P overlaps (interiors) a stored triangle; xy gives the
+  // stored triangles' corners (6 doubles per face).
+  bool overlaps(const Vec2 P[3], const std::vector<double>& xy) {
+    ++query_;
+    auto test = [&](uint32_t g) {
+      if (seen_[g] == query_) return false;
+      seen_[g] = query_;
+      const double* c = &xy[6 * size_t{g}];
+      const Vec2 Q[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
+      return triangles_overlap(P, Q);
+    };
+    int x0, y0, x1, y1;
+    if (!range(P, x0, y0, x1, y1)) {
+      for (uint32_t g : all_)
+        if (test(g)) return true;
+      return false;
+    }
+    for (uint32_t g : big_)
+      if (test(g)) return true;
+    for (int y = y0; y <= y1; ++y)
+      for (int x = x0; x <= x1; ++x) {
+        const uint64_t key = pack(x, y);
+        const size_t b = bucket(key);
+        if (head_gen_[b] != gen_) continue;
+        for (uint32_t e = head_[b]; e != 0; e = entries_[e - 1].next)
+          if (entries_[e - 1].key == key && test(entries_[e - 1].face)) return true;
+      }
+    return false;
+  }
+
+ private:
+  struct Entry {
+    uint64_t key;
+    uint32_t face, next;
+  };
+  static uint64_t pack(int x, int y) {
+    return (uint64_t(uint32_t(x)) << 32) | uint64_t(uint32_t(y));
+  }
+  size_t bucket(uint64_t key) const {
+    return size_t((key * 0x9E3779B97F4A7C15ull) >> 40) & (head_.size() - 1);
+  }
+  // Cell range of P's bounding box; false when it is huge or not finite.
+  bool range(const Vec2 P[3], int& x0, int& y0, int& x1, int& y1) const {
+    double lx = P[0].x, hx = P[0].x, ly = P[0].y, hy = P[0].y;
+    for (int k = 1; k < 3; ++k) {
+      lx = std::min(lx, P[k].x), hx = std::max(hx, P[k].x);
+      ly = std::min(ly, P[k].y), hy = std::max(hy, P[k].y);
+    }
+    lx *= inv_cell_, hx *= inv_cell_, ly *= inv_cell_, hy *= inv_cell_;
+    if (!(lx > -1e9 && hx < 1e9 && ly > -1e9 && hy < 1e9)) return false;
+    x0 = int(std::floor(lx)), x1 = int(std::floor(hx));
+    y0 = int(std::floor(ly)), y1 = int(std::floor(hy));
+    return double(x1 - x0 + 1) * double(y1 - y0 + 1) <= 64.0;
+  }
+  std::vector<uint32_t> head_, head_gen_, seen_, big_, all_;
+  std::vector<Entry> entries_;
+  uint32_t gen_ = 0, query_ = 0;
+  double inv_cell_ = 1.0;
+};
+
+// The growth engine: grows one patch at a time from a seed, restricted to
+// faces that are free and carry a given region label.
+class Grower {
+ public:
+  Grower(const TriMesh& m, const VertexFaces& vf, const EmbedOptions& o)
+      : m_(m), vf_(vf), opt_(o) {
+    const uint32_t nf = m.face_count(), nv = m.vertex_count();
+    face_patch.assign(nf, kNone);
+    region.assign(nf, 0);
+    xy.assign(size_t{nf} * 6, 0.0);
+    placed_.assign(nv, 0);
+    round_of_.assign(nv, 0);
+    listed_.assign(nv, 0);
+    closed_.assign(nf, 0);
+    pos_.resize(nv);
+    double sum = 0;
+    size_t n = 0;
+    for (uint32_t f = 0; f < nf; ++f)
+      for (int k = 0; k < 3; ++k) {
+        const double l = length3(m, m.indices[3 * f + k], m.indices[3 * f + (k + 1) % 3]);
+        if (l > 0 && std::isfinite(l)) sum += l, ++n;
+      }
+    grid_.init(nf, n ? 1.5 * sum / double(n) : 1.0);
+  }
+
+  std::vector<uint32_t> face_patch;  // kNone = free
+  std::vector<uint32_t> region;      // growth stays within the seed's label
+  std::vector<double> xy;            // encoder positions per corner of assigned faces
+
+  // Grows patch `id` from `seed` (which must be free; it is the patch's lowest
+  // face if the caller seeds at the lowest free face of the label). Appends
+  // the patch's faces to `faces` and its placed vertices to `verts`.
+  void grow(uint32_t seed, uint32_t id, std::vector<uint32_t>& faces,
+            std::vector<uint32_t>& verts) {
+    ++gen_;
+    grid_.reset();
+    faces.clear();
+    verts.clear();
+    const uint32_t label = region[seed];
+    const uint32_t* idx = m_.indices.data();
+    Vec2 sp[3];
+    place_seed(m_, seed, sp);
+    fresh_.clear();
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = idx[3 * seed + k];
+      if (placed_[v] == gen_) continue;
+      placed_[v] = gen_;
+      round_of_[v] = 0;
+      pos_[v] = sp[k];
+      fresh_.push_back(v);
+      verts.push_back(v);
+    }
+    assign(seed, id, sp);
+    faces.push_back(seed);
+    if (face_has_repeated_vertex(m_, seed) || orient2d_sign(sp[0], sp[1], sp[2]) <= 0 ||
+        !(face_distortion(m_, seed, sp) <= opt_.tau))
+      return;  // a degenerate seed stays a singleton patch
+    grid_.insert(seed, sp);
+
+    auto available = [&](uint32_t f) {
+      return face_patch[f] == kNone && region[f] == label && closed_[f] != gen_;
+    };
+    for (uint32_t round = 1;; ++round) {
+      ++list_stamp_;
+      list_.clear();
+      for (uint32_t v : fresh_)
+        for (uint32_t i = vf_.offsets[v]; i < vf_.offsets[v + 1]; ++i) {
+          const uint32_t f = vf_.faces[i];
+          if (!available(f) || face_has_repeated_vertex(m_, f)) continue;
+          const uint32_t* t = idx + 3 * f;
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t q = t[k];
+            if (placed_[q] == gen_ || listed_[q] == list_stamp_) continue;
+            if (placed_[t[(k + 1) % 3]] == gen_ && placed_[t[(k + 2) % 3]] == gen_) {
+              listed_[q] = list_stamp_;
+              list_.push_back(q);
+            }
+          }
+        }
+      if (list_.empty()) break;
+      std::sort(list_.begin(), list_.end());
+      fresh_.clear();
+      for (uint32_t q : list_) {
+        // A: available faces with q once and both others placed, ascending.
+        cand_.clear();
+        for (uint32_t i = vf_.offsets[q]; i < vf_.offsets[q + 1]; ++i) {
+          const uint32_t f = vf_.faces[i];
+          if (!available(f) || face_has_repeated_vertex(m_, f)) continue;
+          const uint32_t* t = idx + 3 * f;
+          const int k = t[0] == q ? 0 : (t[1] == q ? 1 : 2);
+          const uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+          if (placed_[a] != gen_ || placed_[b] != gen_) continue;
+          cand_.push_back({f, a, b, k, round_of_[a] < round && round_of_[b] < round, true});
+        }
+        const bool accepted = try_place(q);
+        if (accepted) {
+          placed_[q] = gen_;
+          round_of_[q] = round;
+          pos_[q] = trial_;
+          fresh_.push_back(q);
+          verts.push_back(q);
+          for (const Cand& c : cand_) {
+            if (!c.in) {
+              closed_[c.f] = gen_;
+              continue;
+            }
+            Vec2 P[3];
+            corners(c, trial_, P);
+            assign(c.f, id, P);
+            grid_.insert(c.f, P);
+            faces.push_back(c.f);
+          }
+        } else {
+          for (const Cand& c : cand_)
+            if (c.at_start) closed_[c.f] = gen_;
+        }
+      }
+    }
+  }
+
+ private:
+  struct Cand {
+    uint32_t f, a, b;
+    int k;          // q's corner in f
+    bool at_start;  // available with both others placed when the round began
+    bool in;        // member of the subset S being tried
+  };
+
+  void corners(const Cand& c, Vec2 q, Vec2 P[3]) const {
+    P[c.k] = q;
+    P[(c.k + 1) % 3] = pos_[c.a];
+    P[(c.k + 2) % 3] = pos_[c.b];
+  }
+
+  void assign(uint32_t f, uint32_t id, const Vec2 P[3]) {
+    face_patch[f] = id;
+    for (int k = 0; k < 3; ++k) {
+      xy[6 * size_t{f} + 2 * k] = P[k].x;
+      xy[6 * size_t{f} + 2 * k + 1] = P[k].y;
+    }
+  }
+
+  // Chooses S within cand_ (marking .in) and the point trial_; false = reject.
+  bool try_place(uint32_t q) {
+    for (int attempt = 0; attempt < opt_.place_attempts; ++attempt) {
+      bool any_start = false;
+      unf_.clear();
+      for (const Cand& c : cand_) {
+        if (!c.in) continue;
+        any_start |= c.at_start;
+        unf_.push_back(make_unfolding(m_, q, c.a, c.b, pos_[c.a], pos_[c.b]));
+      }
+      if (!any_start) return false;
+      trial_ = place_vertex(unf_);
+      bool all_ok = true;
+      tris_.clear();
+      for (Cand& c : cand_) {
+        if (!c.in) continue;
+        Vec2 P[3];
+        corners(c, trial_, P);
+        bool ok = orient2d_sign(P[0], P[1], P[2]) > 0 && face_distortion(m_, c.f, P) <= opt_.tau &&
+                  !grid_.overlaps(P, xy);
+        for (size_t j = 0; ok && j < tris_.size(); j += 3) ok = !triangles_overlap(P, &tris_[j]);
+        if (ok) {
+          tris_.insert(tris_.end(), P, P + 3);
+        } else {
+          c.in = false;
+          all_ok = false;
+        }
+      }
+      if (all_ok) return true;
+    }
+    return false;
+  }
+
+  const TriMesh& m_;
+  const VertexFaces& vf_;
+  const EmbedOptions& opt_;
+  std::vector<uint32_t> placed_, round_of_, listed_, closed_;
+  std::vector<Vec2> pos_;
+  std::vector<uint32_t> fresh_, list_;
+  std::vector<Cand> cand_;
+  std::vector<Unfolding> unf_;
+  std::vector<Vec2> tris_;
+  Vec2 trial_;
+  TriangleGrid grid_;
+  uint32_t gen_ = 0, list_stamp_ = 0;
+};
+
+// Area of the patch's triangles over the area of the min-area rectangle of
+// its corners (1 for an empty or zero-area patch).
+double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy,
+                  std::vector<Vec2>& scratch, double* area_out = nullptr) {
+  scratch.clear();
+  double area = 0;
+  for (uint32_t f : faces) {
+    const double* c = &xy[6 * size_t{f}];
+    const Vec2 P[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
+    area += std::fabs(orient2d(P[0], P[1], P[2])) * 0.5;
+    scratch.insert(scratch.end(), P, P + 3);
+  }
+  if (area_out) *area_out = area;
+  const OrientedRect r = min_area_rect(convex_hull(scratch));
+  return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
+}
+
+// Compact mode, step 1: near-disc regions. Faces are taken in ascending
+// order as region seeds; each region grows by geodesic (centroid-to-centroid)
+// distance, admitting a face while its normal stays within the cone around
+// the region's running area-weighted mean normal. Degenerate faces form
+// their own regions. O(n log n).
+void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double cone_deg,
+                     std::vector<uint32_t>& region) {
+  const uint32_t nf = m.face_count();
+  std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
+  const float* p = m.positions.data();
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &m.indices[3 * f];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+      cen[3 * f + k] = (double(p[3 * t[0] + k]) + p[3 * t[1] + k] + p[3 * t[2] + k]) / 3.0;
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    area[f] = 0.5 * len;
+    if (len > 0 && std::isfinite(len))
+      for (int k = 0; k < 3; ++k) nrm[3 * f + k] = n[k] / len;
+  }
+  const double cos_cone = std::cos(cone_deg * 3.14159265358979323846 / 180.0);
+  region.assign(nf, kNone);
+  std::vector<uint32_t> tried(nf, 0);
+  std::vector<double> dist(nf, 0.0);
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  uint32_t label = 0;
+  for (uint32_t s = 0; s < nf; ++s) {
+    if (region[s] != kNone) continue;
+    const uint32_t lab = label++;
+    if (!(area[s] > 0) || face_has_repeated_vertex(m, s)) {
+      region[s] = lab;
+      continue;
+    }
+    double mean[3] = {0, 0, 0};
+    heap.push({0.0, s});
+    dist[s] = 0;
+    tried[s] = lab + 1;
+    while (!heap.empty()) {
+      const auto [d, f] = heap.top();
+      heap.pop();
+      if (region[f] != kNone || d > dist[f]) continue;
+      const double ml = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+      if (ml > 0) {
+        const double c = (nrm[3 * f] * mean[0] + nrm[3 * f + 1] * mean[1] + nrm[3 * f + 2] * mean[2]) / ml;
+        if (c < cos_cone) continue;
+      }
+      region[f] = lab;
+      for (int k = 0; k < 3; ++k) mean[k] += area[f] * nrm[3 * f + k];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone) continue;
+        const uint32_t g = o / 3;
+        if (region[g] != kNone || !(area[g] > 0) || face_has_repeated_vertex(m, g)) continue;
+        const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
+                     dz = cen[3 * g + 2] - cen[3 * f + 2];
+        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+        if (tried[g] == lab + 1 && dist[g] <= nd) continue;
+        tried[g] = lab + 1;
+        dist[g] = nd;
+        heap.push({nd, g});
+      }
+    }
+  }
+}
+
+// Grows patches covering every face: for each label, seeds at the lowest
+// free face of that label until the label is covered. Returns the patches'
+// face lists (patch ids are their index; creation order).
+void grow_all(Grower& g, std::vector<std::vector<uint32_t>>& patches) {
+  const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
+  std::vector<uint32_t> faces, verts;
+  for (uint32_t f = 0; f < nf; ++f) {
+    if (g.face_patch[f] != kNone) continue;
+    const uint32_t id = static_cast<uint32_t>(patches.size());
+    g.grow(f, id, faces, verts);
+    patches.push_back(faces);
+  }
+}
+
+// Compact mode, step 3: merge adjacent patches, most shared edges first,
+// when the union regrows completely from its lowest face (so it replays
+// within tau, unflipped and overlap-free) and stays compact.
+void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptions& opt,
+                   std::vector<std::vector<uint32_t>>& patches) {
+  const uint32_t np = static_cast<uint32_t>(patches.size());
+  std::vector<double> fill(np, 1.0);
+  std::vector<Vec2> scratch;
+  for (uint32_t p = 0; p < np; ++p) fill[p] = patch_fill(patches[p], g.xy, scratch);
+  std::vector<uint32_t> touched(np, 0), faces, verts, unite;
+  std::vector<double> saved;
+  uint32_t next_label = 0;
+  for (uint32_t f : g.region) next_label = std::max(next_label, f == kNone ? 0 : f + 1);
+  struct Pair {
+    uint32_t a, b, shared;
+  };
+  std::vector<uint64_t> keys;
+  std::vector<Pair> pairs;
+  for (int round = 1; round <= opt.merge_rounds; ++round) {
+    keys.clear();
+    for (size_t c = 0; c < opp.size(); ++c) {
+      const uint32_t o = opp[c];
+      if (o == kNone || o < c) continue;
+      uint32_t a = g.face_patch[c / 3], b = g.face_patch[o / 3];
+      if (a == b) continue;
+      if (a > b) std::swap(a, b);
+      keys.push_back((uint64_t(a) << 32) | b);
+    }
+    std::sort(keys.begin(), keys.end());
+    pairs.clear();
+    for (size_t i = 0; i < keys.size();) {
+      size_t j = i;
+      while (j < keys.size() && keys[j] == keys[i]) ++j;
+      pairs.push_back({uint32_t(keys[i] >> 32), uint32_t(keys[i]), uint32_t(j - i)});
+      i = j;
+    }
+    std::stable_sort(pairs.begin(), pairs.end(),
+                     [](const Pair& l, const Pair& r) { return l.shared > r.shared; });
+    bool merged_any = false;
+    for (const Pair& pr : pairs) {
+      if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
+      std::vector<uint32_t>& A = patches[pr.a];
+      std::vector<uint32_t>& B = patches[pr.b];
+      unite.assign(A.begin(), A.end());
+      unite.insert(unite.end(), B.begin(), B.end());
+      saved.resize(unite.size() * 6);
+      const uint32_t label = next_label++;
+      uint32_t seed = kNone;
+      for (size_t i = 0; i < unite.size(); ++i) {
+        const uint32_t f = unite[i];
+        std::copy_n(&g.xy[6 * size_t{f}], 6, &saved[6 * i]);
+        g.region[f] = label;
+        g.face_patch[f] = kNone;
+        seed = std::min(seed, f);
+      }
+      g.grow(seed, pr.a, faces, verts);
+      bool ok = faces.size() == unite.size();
+      double fu = 0;
+      if (ok) {
+        fu = patch_fill(faces, g.xy, scratch);
+        const size_t small = std::min(A.size(), B.size());
+        ok = fu >= std::min(opt.merge_min_fill, std::min(fill[pr.a], fill[pr.b])) ||
+             small <= opt.merge_small_faces;
+      }
+      touched[pr.a] = touched[pr.b] = uint32_t(round);
+      if (ok) {
+        A = faces;
+        B.clear();
+        fill[pr.a] = fu;
+        merged_any = true;
+      } else {
+        for (size_t i = 0; i < A.size() + B.size(); ++i) {
+          const uint32_t f = unite[i];
+          g.face_patch[f] = i < A.size() ? pr.a : pr.b;
+          std::copy_n(&saved[6 * i], 6, &g.xy[6 * size_t{f}]);
+        }
+        // Leave both free for another partner this round.
+        touched[pr.a] = touched[pr.b] = 0;
+      }
+    }
+    if (!merged_any) break;
+  }
+}
+
+}  // namespace
+
+Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
+  Embedding out;
+  if (!mesh_indices_valid(mesh)) {
+    out.status = LayoutStatus::bad_mesh;
+    return out;
+  }
+  const uint32_t nf = mesh.face_count();
+  const VertexFaces vf = build_vertex_faces(mesh);
+  const std::vector<uint32_t> opp = build_opposite_corners(mesh, vf);
+  Grower g(mesh, vf, opt);
+  std::vector<std::vector<uint32_t>> patches;
+  if (opt.mode == PartitionMode::compact) {
+    cluster_regions(mesh, opp, opt.region_cone_deg, g.region);
+    grow_all(g, patches);
+    if (opt.merge) merge_patches(g, opp, opt, patches);
+  } else {
+    grow_all(g, patches);
+  }
+  // Final pass: regrow every patch's face set from its lowest face, so that
+  // the recorded encoder positions come from one growth of the final sets
+  // (a set that did not regrow whole is split, which keeps the result valid).
+  if (opt.mode == PartitionMode::compact) {
+    for (uint32_t p = 0; p < patches.size(); ++p)
+      for (uint32_t f : patches[p]) g.region[f] = p, g.face_patch[f] = kNone;
+    patches.clear();
+    grow_all(g, patches);
+  }
+  // Number patches by lowest face (grow_all seeds each at its lowest face).
+  std::vector<uint32_t> order(patches.size()), rank(patches.size());
+  std::vector<uint32_t> low(patches.size(), kNone);
+  for (uint32_t p = 0; p < patches.size(); ++p)
+    for (uint32_t f : patches[p]) low[p] = std::min(low[p], f);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return low[a] < low[b]; });
+  uint32_t count = 0;
+  for (uint32_t p : order)
+    if (!patches[p].empty()) rank[p] = count++;
+  out.patch_of_face.assign(nf, 0);
+  for (uint32_t p = 0; p < patches.size(); ++p)
+    for (uint32_t f : patches[p]) out.patch_of_face[f] = rank[p];
+  out.patch_count = count;
+  out.encoder_xy = std::move(g.xy);
+  out.status = layout_patches(mesh, out.patch_of_face, out.patch_count, out.corner_xy);
+  if (out.status == LayoutStatus::ok)
+    out.report = measure_embedding(mesh, out.patch_of_face, out.patch_count, out.corner_xy, opt.tau);
+  return out;
+}
+
+EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                              uint32_t patch_count, std::span<const double> corner_xy,
+                              double tau) {
+  EmbedReport r;
+  const uint32_t nf = mesh.face_count();
+  if (!mesh_indices_valid(mesh) || patch_of_face.size() != nf || corner_xy.size() != size_t{nf} * 6)
+    return r;
+  for (uint32_t f = 0; f < nf; ++f)
+    if (patch_of_face[f] >= patch_count) return r;
+  r.patch_count = patch_count;
+  r.face_count = nf;
+  double sum = 0, wsum = 0, wtot = 0;
+  uint32_t finite = 0;
+  r.max_distortion = nf ? 0.0 : 1.0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const double* c = &corner_xy[6 * size_t{f}];
+    const Vec2 P[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
+    const int s = orient2d_sign(P[0], P[1], P[2]);
+    r.flipped += s < 0;
+    r.zero_area += s == 0;
+    const double d = face_distortion(mesh, f, P);
+    r.max_distortion = std::max(r.max_distortion, d);
+    r.over_tau += !(d <= tau);
+    if (std::isfinite(d)) {
+      const double a = face_area3(mesh, f);
+      sum += d, ++finite;
+      wsum += a * d, wtot += a;
+    }
+  }
+  r.mean_distortion = finite ? sum / finite : 1.0;
+  r.area_mean_distortion = wtot > 0 ? wsum / wtot : r.mean_distortion;
+
+  const VertexFaces vf = build_vertex_faces(mesh);
+  const std::vector<uint32_t> opp = build_opposite_corners(mesh, vf);
+  for (size_t c = 0; c < opp.size(); ++c) {
+    const uint32_t o = opp[c];
+    if (o == kNone || o < c) continue;
+    ++r.interior_edges;
+    if (patch_of_face[c / 3] != patch_of_face[o / 3]) {
+      ++r.seam_edges;
+      const uint32_t f = uint32_t(c / 3), k = uint32_t(c % 3);
+      r.seam_length += length3(mesh, mesh.indices[3 * f + (k + 1) % 3], mesh.indices[3 * f + (k + 2) % 3]);
+    }
+  }
+  // Per patch: fill, and holes (1-3 faces whose every edge borders one other patch).
+  std::vector<uint32_t> off(size_t{patch_count} + 1, 0), pf(nf);
+  for (uint32_t f = 0; f < nf; ++f) ++off[patch_of_face[f] + 1];
+  for (uint32_t p = 0; p < patch_count; ++p) off[p + 1] += off[p];
+  {
+    std::vector<uint32_t> fill(off.begin(), off.end() - 1);
+    for (uint32_t f = 0; f < nf; ++f) pf[fill[patch_of_face[f]]++] = f;
+  }
+  const std::vector<double> xy(corner_xy.begin(), corner_xy.end());
+  std::vector<Vec2> scratch;
+  double fsum = 0, fw = 0;
+  for (uint32_t p = 0; p < patch_count; ++p) {
+    const std::span<const uint32_t> faces(pf.data() + off[p], off[p + 1] - off[p]);
+    double area = 0;
+    const double fl = patch_fill(faces, xy, scratch, &area);
+    fsum += area * fl, fw += area;
+    if (faces.size() > 3) continue;
+    uint32_t other = kNone;
+    bool hole = true;
+    for (uint32_t f : faces)
+      for (int k = 0; k < 3 && hole; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone) { hole = false; break; }
+        const uint32_t q = patch_of_face[o / 3];
+        if (q == p) continue;
+        if (other == kNone) other = q;
+        else if (other != q) hole = false;
+      }
+    r.holes += hole && other != kNone;
+  }
+  r.fill = fw > 0 ? fsum / fw : 1.0;
+  return r;
+}
+
+}  // namespace gltfwarp

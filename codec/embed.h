@@ -1,0 +1,66 @@
+// The partition: cut the decoded mesh D into patches that the shared replay
+// (codec/layout.h) lays flat with every triangle's distortion at most tau,
+// no flipped triangle and no overlap inside a patch. Encoder only: every
+// decision with a threshold lives here; the decoder sees membership alone.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/layout.h"
+#include "codec/mesh.h"
+
+namespace gltfwarp {
+
+enum class PartitionMode : uint8_t {
+  compact,  // near-disc regions first, grown within, then merged (issue 8)
+  greedy,   // the paper's plain BFS-rounds growth from the lowest free face (baseline)
+};
+
+struct EmbedOptions {
+  double tau = 1.3;                     // max distortion per triangle (paper's measure)
+  PartitionMode mode = PartitionMode::compact;
+  int place_attempts = 3;               // retries of a candidate after dropping its failing faces
+  double region_cone_deg = 55.0;        // compact: max angle between a face normal and its region's mean normal
+  bool merge = true;                    // compact: merge adjacent patches while the union still replays within tau
+  int merge_rounds = 8;                 // compact: passes over adjacent patch pairs
+  double merge_min_fill = 0.6;          // compact: a merge must keep area/min-rect >= this ...
+  uint32_t merge_small_faces = 12;      // ... unless the smaller part has at most this many faces
+};
+
+// Quality of an embedding. All figures are over the faces of one mesh.
+struct EmbedReport {
+  uint32_t patch_count = 0;
+  uint32_t face_count = 0;
+  double max_distortion = 1.0;          // over faces (degenerate faces included; see distortion.h)
+  double mean_distortion = 1.0;         // unweighted over faces with a finite distortion
+  double area_mean_distortion = 1.0;    // weighted by 3D face area
+  uint32_t over_tau = 0;                // faces above tau (given to measure_embedding)
+  uint32_t flipped = 0;                 // 2D signed area < 0 (exact)
+  uint32_t zero_area = 0;               // 2D signed area == 0 (exact)
+  uint32_t seam_edges = 0;              // manifold interior edges whose two faces lie in different patches
+  double seam_length = 0;               // their 3D length
+  uint32_t interior_edges = 0;          // all manifold interior edges
+  double fill = 0;                      // area-weighted mean of patch 2D area / its min-area-rect area
+  uint32_t holes = 0;                   // patches of 1-3 faces whose every edge borders one other patch
+};
+
+// Pure: measures any partition with its replayed corner positions.
+EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                              uint32_t patch_count, std::span<const double> corner_xy,
+                              double tau = 1.3);
+
+struct Embedding {
+  LayoutStatus status = LayoutStatus::ok;
+  std::vector<uint32_t> patch_of_face;  // patches numbered by lowest face; seed = lowest face
+  uint32_t patch_count = 0;
+  std::vector<double> corner_xy;        // from layout_patches (what the decoder computes)
+  std::vector<double> encoder_xy;       // what the encoder's growth computed (test: == corner_xy)
+  EmbedReport report;
+};
+
+// Requires valid indices (mesh_indices_valid); otherwise status = bad_mesh.
+Embedding embed(const TriMesh& mesh, const EmbedOptions& options = {});
+
+}  // namespace gltfwarp

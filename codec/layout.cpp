@@ -1,0 +1,205 @@
+// The shared layout replay (see layout.h for the normative rules). Growth in
+// breadth-first rounds with unfolding and relaxation follows Sorkine &
+// Cohen-Or, "Warped Textures for UV Mapping Encoding" (2001), section 3; the
+// relaxation is a few steps of stress majorization (de Leeuw's SMACOF, 1977)
+// restricted to the new vertex. Every decision the paper makes with a
+// threshold was made by the encoder and is visible here only as membership.
+//
+// Linear time: one counting sort for vertex -> faces, one for patch -> faces,
+// and per-vertex state reset by generation stamps instead of clears.
+#include "codec/layout.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "codec/topology.h"
+
+namespace gltfwarp {
+
+const char* to_string(LayoutStatus s) {
+  switch (s) {
+    case LayoutStatus::ok: return "ok";
+    case LayoutStatus::bad_patch_id: return "bad patch id";
+    case LayoutStatus::patch_order: return "patches not numbered by lowest face";
+    case LayoutStatus::unreachable_face: return "a face of a patch is never reached";
+    case LayoutStatus::bad_mesh: return "index out of range";
+  }
+  return "unknown";
+}
+
+void place_seed(const TriMesh& m, uint32_t face, Vec2 out[3]) {
+  const uint32_t v0 = m.indices[3 * face], v1 = m.indices[3 * face + 1],
+                 v2 = m.indices[3 * face + 2];
+  out[0] = {0.0, 0.0};
+  const double l01s = length3_sq(m, v0, v1), l02s = length3_sq(m, v0, v2);
+  const double l01 = std::sqrt(l01s), l02 = std::sqrt(l02s);
+  out[1] = v1 == v0 ? out[0] : Vec2{l01, 0.0};
+  if (v2 == v0) {
+    out[2] = out[0];
+  } else if (v2 == v1) {
+    out[2] = out[1];
+  } else if (v1 == v0) {
+    out[2] = {l02, 0.0};
+  } else if (l01 == 0) {
+    out[2] = {0.0, l02};
+  } else {
+    const double l12s = length3_sq(m, v1, v2);
+    const double x = (l01s + l02s - l12s) / (2.0 * l01);
+    const double y2 = l02s - x * x;
+    out[2] = {x, std::sqrt(y2 > 0 ? y2 : 0.0)};
+  }
+}
+
+Vec2 place_vertex(std::span<const Unfolding> faces) {
+  double sx = 0, sy = 0, sw = 0, mx = 0, my = 0;
+  for (const Unfolding& f : faces) {
+    const double ex = f.b.x - f.a.x, ey = f.b.y - f.a.y;
+    double ux, uy;
+    if (f.lab2 > 0) {
+      const double s = (f.la * f.la - f.lb * f.lb + f.lab2) / (2.0 * f.lab2);
+      const double t2 = f.la * f.la / f.lab2 - s * s;
+      const double t = std::sqrt(t2 > 0 ? t2 : 0.0);
+      ux = f.a.x + s * ex - t * ey;
+      uy = f.a.y + s * ey + t * ex;
+    } else {
+      ux = (f.a.x + f.b.x) / 2.0;
+      uy = (f.a.y + f.b.y) / 2.0;
+    }
+    const double d2 = ex * ex + ey * ey;
+    const double den = d2 + f.lab2;
+    const double e = den > 0 ? 2.0 * std::sqrt(d2) * std::sqrt(f.lab2) / den : 1.0;
+    const double w = e * e;
+    sx += w * ux;
+    sy += w * uy;
+    sw += w;
+    mx += ux;
+    my += uy;
+  }
+  Vec2 p;
+  if (sw > 0) {
+    p = {sx / sw, sy / sw};
+  } else {
+    const double n = static_cast<double>(faces.size());
+    p = {mx / n, my / n};
+  }
+  for (int step = 0; step < kRelaxSteps; ++step) {
+    double nx = 0, ny = 0, nw = 0;
+    for (const Unfolding& f : faces) {
+      for (int k = 0; k < 2; ++k) {
+        const Vec2 x = k == 0 ? f.a : f.b;
+        const double l = k == 0 ? f.la : f.lb;
+        const double dx = p.x - x.x, dy = p.y - x.y;
+        const double r = std::sqrt(dx * dx + dy * dy);
+        if (l == 0 || r == 0) continue;
+        const double w = 1.0 / (l * l), g = l / r;
+        nx += w * (x.x + g * dx);
+        ny += w * (x.y + g * dy);
+        nw += w;
+      }
+    }
+    if (nw > 0) p = {nx / nw, ny / nw};
+  }
+  return p;
+}
+
+LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                            uint32_t patch_count, std::vector<double>& corner_xy) {
+  if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
+  const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
+  if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
+  uint32_t next = 0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t p = patch_of_face[f];
+    if (p >= patch_count) return LayoutStatus::bad_patch_id;
+    if (p == next) ++next;
+    else if (p > next) return LayoutStatus::patch_order;
+  }
+  if (next != patch_count) return LayoutStatus::bad_patch_id;
+
+  const VertexFaces vf = build_vertex_faces(mesh);
+  // Faces of each patch, ascending (counting sort by patch id).
+  std::vector<uint32_t> poff(size_t{patch_count} + 1, 0), pfaces(nf);
+  for (uint32_t f = 0; f < nf; ++f) ++poff[patch_of_face[f] + 1];
+  for (uint32_t p = 0; p < patch_count; ++p) poff[p + 1] += poff[p];
+  {
+    std::vector<uint32_t> fill(poff.begin(), poff.end() - 1);
+    for (uint32_t f = 0; f < nf; ++f) pfaces[fill[patch_of_face[f]]++] = f;
+  }
+
+  // placed[v] == p + 1 marks v placed in patch p; listed[v] == round stamp
+  // marks v already in the next candidate list.
+  std::vector<uint32_t> placed(nv, 0), listed(nv, 0);
+  std::vector<Vec2> pos(nv);
+  std::vector<uint32_t> fresh, list;
+  std::vector<Unfolding> unf;
+  uint32_t round_stamp = 0;
+  corner_xy.assign(size_t{nf} * 6, 0.0);
+  const uint32_t* idx = mesh.indices.data();
+
+  for (uint32_t p = 0; p < patch_count; ++p) {
+    const uint32_t mark = p + 1;
+    const uint32_t seed = pfaces[poff[p]];
+    Vec2 sp[3];
+    place_seed(mesh, seed, sp);
+    fresh.clear();
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = idx[3 * seed + k];
+      if (placed[v] == mark) continue;
+      placed[v] = mark;
+      pos[v] = sp[k];
+      fresh.push_back(v);
+    }
+    for (;;) {
+      // Candidates: every vertex that became eligible did so through a face
+      // holding a vertex placed in the previous round.
+      ++round_stamp;
+      list.clear();
+      for (uint32_t v : fresh) {
+        for (uint32_t i = vf.offsets[v]; i < vf.offsets[v + 1]; ++i) {
+          const uint32_t f = vf.faces[i];
+          if (patch_of_face[f] != p) continue;
+          const uint32_t* t = idx + 3 * f;
+          for (int k = 0; k < 3; ++k) {
+            const uint32_t q = t[k], a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+            if (placed[q] == mark || listed[q] == round_stamp || q == a || q == b) continue;
+            if (placed[a] == mark && placed[b] == mark) {
+              listed[q] = round_stamp;
+              list.push_back(q);
+            }
+          }
+        }
+      }
+      if (list.empty()) break;
+      std::sort(list.begin(), list.end());
+      fresh.clear();
+      for (uint32_t q : list) {
+        unf.clear();
+        for (uint32_t i = vf.offsets[q]; i < vf.offsets[q + 1]; ++i) {
+          const uint32_t f = vf.faces[i];
+          if (patch_of_face[f] != p) continue;
+          const uint32_t* t = idx + 3 * f;
+          const uint32_t k = t[0] == q ? 0 : (t[1] == q ? 1 : 2);
+          const uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
+          if (a == q || b == q) continue;  // q not exactly once (also skips the repeat listing)
+          if (placed[a] != mark || placed[b] != mark) continue;
+          unf.push_back(make_unfolding(mesh, q, a, b, pos[a], pos[b]));
+        }
+        pos[q] = place_vertex(unf);
+        placed[q] = mark;
+        fresh.push_back(q);
+      }
+    }
+    for (uint32_t i = poff[p]; i < poff[p + 1]; ++i) {
+      const uint32_t f = pfaces[i];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = idx[3 * f + k];
+        if (placed[v] != mark) return LayoutStatus::unreachable_face;
+        corner_xy[6 * size_t{f} + 2 * k] = pos[v].x;
+        corner_xy[6 * size_t{f} + 2 * k + 1] = pos[v].y;
+      }
+    }
+  }
+  return LayoutStatus::ok;
+}
+
+}  // namespace gltfwarp
