@@ -1,0 +1,300 @@
+// The GLTFWARP_implicit_texcoords bitstream (format/uvmap_codec.h): round
+// trips over random maps, every truncation, corrupt headers and counts,
+// trailing bytes, transform tables, and apply_placements arithmetic.
+// Golden vectors are in test_bitstream_golden.cpp.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "format/decode_uvs.h"
+#include "format/uvmap_codec.h"
+#include "test_bitstream_util.h"
+
+using namespace gltfwarp;
+using namespace gltfwarp::testutil;
+
+namespace {
+
+UvMap simple_map(const TriMesh& m, uint32_t patches, uint32_t seed) {
+  std::mt19937 rng(seed);
+  return random_uvmap(m, patches, rng, true, true, true);
+}
+
+}  // namespace
+
+TEST(Bitstream, RoundTripRandomMaps) {
+  std::mt19937 rng(42);
+  for (int trial = 0; trial < 300; ++trial) {
+    const TriMesh mesh = (trial % 3 == 0) ? make_sphere(3 + rng() % 20, 2 + rng() % 15)
+                                          : make_grid(1 + rng() % 30, 1 + rng() % 30);
+    const uint32_t patches = 1 + rng() % std::max(1u, mesh.face_count() / static_cast<uint32_t>(1 + rng() % 20));
+    const UvMap map = random_uvmap(mesh, patches, rng, trial % 2 == 0, trial % 4 == 0, trial % 5 != 0);
+    std::vector<uint8_t> bytes;
+    ASSERT_EQ(write_uvmap(map, mesh, bytes), UvStatus::ok) << trial;
+    UvMap back;
+    ASSERT_EQ(read_uvmap(bytes, mesh, back), UvStatus::ok) << trial;
+    ASSERT_EQ(back, map) << trial;
+    UvStreamInfo info;
+    ASSERT_EQ(read_uvmap_info(bytes, info), UvStatus::ok);
+    EXPECT_EQ(info.total_bytes, bytes.size());
+    EXPECT_EQ(info.patch_count, map.patch_count);
+  }
+}
+
+TEST(Bitstream, RoundTripArbitraryPartitions) {
+  // Patches need not be connected or compact: explicit ids cover any numbering
+  // in lowest-face order.
+  std::mt19937 rng(3);
+  for (int trial = 0; trial < 100; ++trial) {
+    const TriMesh mesh = make_grid(1 + rng() % 12, 1 + rng() % 12);
+    UvMap map;
+    map.atlas_width = 100;
+    map.atlas_height = 50;
+    map.patch_of_face.resize(mesh.face_count());
+    uint32_t created = 0;
+    for (uint32_t& p : map.patch_of_face) {
+      p = (created == 0 || rng() % 3 == 0) ? created++ : static_cast<uint32_t>(rng() % created);
+    }
+    map.patch_count = created;
+    map.placements.resize(created);
+    std::vector<uint8_t> bytes;
+    ASSERT_EQ(write_uvmap(map, mesh, bytes), UvStatus::ok);
+    UvMap back;
+    ASSERT_EQ(read_uvmap(bytes, mesh, back), UvStatus::ok);
+    ASSERT_EQ(back, map);
+  }
+}
+
+TEST(Bitstream, EmptyMesh) {
+  TriMesh mesh;
+  UvMap map;
+  map.atlas_width = map.atlas_height = 1;
+  std::vector<uint8_t> bytes;
+  ASSERT_EQ(write_uvmap(map, mesh, bytes), UvStatus::ok);
+  UvMap back;
+  ASSERT_EQ(read_uvmap(bytes, mesh, back), UvStatus::ok);
+  EXPECT_EQ(back, map);
+}
+
+TEST(Bitstream, EveryTruncationIsRejected) {
+  std::mt19937 rng(11);
+  for (int trial = 0; trial < 20; ++trial) {
+    const TriMesh mesh = make_grid(4 + rng() % 10, 4 + rng() % 10);
+    const UvMap map = random_uvmap(mesh, 2 + rng() % 8, rng, trial % 2 == 0, trial % 3 == 0, true);
+    const auto bytes = write_uvmap(map, mesh);
+    for (size_t len = 0; len < bytes.size(); ++len) {
+      // A fresh allocation of exactly len bytes, so ASan flags any overread.
+      std::vector<uint8_t> cut(bytes.begin(), bytes.begin() + len);
+      UvMap out;
+      const UvStatus s = read_uvmap(cut, mesh, out);
+      ASSERT_NE(s, UvStatus::ok) << "len " << len;
+      EXPECT_EQ(s, UvStatus::truncated) << "len " << len << ": " << to_string(s);
+    }
+  }
+}
+
+TEST(Bitstream, TrailingBytesAreRejected) {
+  const TriMesh mesh = make_grid(5, 5);
+  auto bytes = write_uvmap(simple_map(mesh, 4, 1), mesh);
+  for (uint8_t extra : {0x00, 0x5a}) {
+    auto longer = bytes;
+    longer.push_back(extra);
+    UvMap out;
+    EXPECT_EQ(read_uvmap(longer, mesh, out), UvStatus::trailing_bytes);
+    UvStreamInfo info;
+    EXPECT_EQ(read_uvmap_info(longer, info), UvStatus::trailing_bytes);
+  }
+}
+
+namespace {
+
+// Header of the stream written for the 5x5 grid below, field offsets.
+struct Fixture {
+  TriMesh mesh = make_grid(5, 5);
+  UvMap map;
+  std::vector<uint8_t> bytes;
+  Fixture() {
+    map = simple_map(mesh, 4, 1);
+    map.atlas_width = map.atlas_height = 100;  // one-byte varints
+    map.page_count = 2;
+    for (auto& pl : map.placements) {
+      pl.x %= 101;
+      pl.y %= 101;
+      pl.page %= 2;
+    }
+    bytes = write_uvmap(map, mesh);
+  }
+  // magic 0-3, major 4, minor 5, flags 6, face_count 7 (50 -> 1 byte), tau 8-11,
+  // texel_scale 12-15, width 16, height 17, pages 18, patches 19, partition size 20.
+  UvStatus read(const std::vector<uint8_t>& b) const {
+    UvMap out;
+    return read_uvmap(b, mesh, out);
+  }
+  UvStatus with(size_t offset, uint8_t value) const {
+    auto b = bytes;
+    b[offset] = value;
+    return read(b);
+  }
+};
+
+}  // namespace
+
+TEST(Bitstream, CorruptHeadersAreRejected) {
+  Fixture fx;
+  ASSERT_EQ(fx.read(fx.bytes), UvStatus::ok);
+  EXPECT_EQ(fx.with(0, 'X'), UvStatus::bad_magic);
+  EXPECT_EQ(fx.with(3, 'X'), UvStatus::bad_magic);
+  EXPECT_EQ(fx.with(4, 2), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(4, 0), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(5, 1), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(6, 0x04), UvStatus::reserved_bits);
+  EXPECT_EQ(fx.with(6, 0x80), UvStatus::reserved_bits);
+  EXPECT_EQ(fx.with(7, 49), UvStatus::face_count_mismatch);
+  EXPECT_EQ(fx.with(11, 0x7f), UvStatus::bad_value);  // tau: float with exponent bits all set
+  {
+    auto b = fx.bytes;
+    b[12] = b[13] = b[14] = 0;
+    b[15] = 0x80;  // texel_scale = -0
+    EXPECT_EQ(fx.read(b), UvStatus::bad_value);
+  }
+  EXPECT_EQ(fx.with(16, 0), UvStatus::bad_count);     // atlas width 0
+  EXPECT_EQ(fx.with(17, 0), UvStatus::bad_count);     // atlas height 0
+  EXPECT_EQ(fx.with(18, 0), UvStatus::bad_count);     // no page
+  EXPECT_EQ(fx.with(19, 0), UvStatus::bad_count);     // no patch on a non-empty mesh
+  EXPECT_EQ(fx.with(19, 51), UvStatus::bad_count);    // more patches than faces
+  EXPECT_EQ(fx.with(20, 0x7f), UvStatus::truncated);  // partition size past the end
+  {
+    // Overlong varint: 5 bytes of continuation.
+    auto b = fx.bytes;
+    b[7] = 0x80;
+    b.insert(b.begin() + 8, {0x80, 0x80, 0x80, 0x80});
+    EXPECT_EQ(fx.read(b), UvStatus::bad_value);
+  }
+  {
+    // Redundant varint encoding (50 as 0xB2 0x00).
+    auto b = fx.bytes;
+    b[7] = 0xB2;
+    b.insert(b.begin() + 8, 0x00);
+    EXPECT_EQ(fx.read(b), UvStatus::bad_value);
+  }
+  // Wrong mesh.
+  UvMap out;
+  EXPECT_EQ(read_uvmap(fx.bytes, make_grid(6, 5), out), UvStatus::face_count_mismatch);
+  TriMesh broken = fx.mesh;
+  broken.indices[7] = 1000;
+  EXPECT_EQ(read_uvmap(fx.bytes, broken, out), UvStatus::bad_mesh);
+}
+
+TEST(Bitstream, CorruptSectionSizesAreRejected) {
+  Fixture fx;
+  const size_t part_size_at = 20;
+  const uint8_t part = fx.bytes[part_size_at];
+  ASSERT_LT(part, 0x80);
+  // A smaller partition section moves the placements size field: never ok.
+  for (int d = 1; d <= part; ++d) EXPECT_NE(fx.with(part_size_at, static_cast<uint8_t>(part - d)), UvStatus::ok);
+  // Shortened final section: the stream ends with unused bytes.
+  auto b = fx.bytes;
+  const size_t place_size_at = part_size_at + 1 + part;
+  ASSERT_GT(b[place_size_at], 0);
+  b[place_size_at]--;
+  EXPECT_EQ(fx.read(b), UvStatus::trailing_bytes);
+}
+
+TEST(Bitstream, RandomCorruptionNeverCrashes) {
+  std::mt19937 rng(77);
+  Fixture fx;
+  int rejected = 0;
+  for (int trial = 0; trial < 5000; ++trial) {
+    auto b = fx.bytes;
+    const int flips = 1 + static_cast<int>(rng() % 4);
+    for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    std::vector<float> uv;
+    UvMap out;
+    const UvStatus s = read_uvmap(b, fx.mesh, out);
+    if (s != UvStatus::ok) {
+      ++rejected;
+    } else {
+      EXPECT_EQ(validate_uvmap(out, fx.mesh), UvStatus::ok);  // whatever decodes is valid
+    }
+  }
+  EXPECT_GT(rejected, 0);
+}
+
+TEST(Bitstream, WriterRejectsInvalidMaps) {
+  const TriMesh mesh = make_grid(3, 3);
+  const UvMap good = simple_map(mesh, 3, 5);
+  std::vector<uint8_t> bytes;
+  ASSERT_EQ(write_uvmap(good, mesh, bytes), UvStatus::ok);
+  auto bad = good;
+  bad.patch_of_face[0] = 1;  // patch 1 before patch 0
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad = good;
+  bad.placements[0].x = static_cast<int32_t>(bad.atlas_width) + 1;
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad = good;
+  bad.placements[0].scale_step = 33;
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad = good;
+  bad.placements.pop_back();
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad = good;
+  bad.texel_scale = std::nanf("");
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  EXPECT_THROW(write_uvmap(bad, mesh), std::invalid_argument);
+}
+
+TEST(Bitstream, TransformTables) {
+  double c, s;
+  rotation_cos_sin(0, c, s);
+  EXPECT_EQ(c, 1.0);
+  EXPECT_EQ(s, 0.0);
+  rotation_cos_sin(64, c, s);
+  EXPECT_EQ(c, 0.0);
+  EXPECT_EQ(s, 1.0);
+  rotation_cos_sin(128, c, s);
+  EXPECT_EQ(c, -1.0);
+  rotation_cos_sin(192, c, s);
+  EXPECT_EQ(s, -1.0);
+  for (uint32_t r = 0; r < kRotationSteps; ++r) {
+    rotation_cos_sin(r, c, s);
+    const double a = 2 * 3.14159265358979323846 * r / kRotationSteps;
+    EXPECT_NEAR(c, std::cos(a), 1e-15);
+    EXPECT_NEAR(s, std::sin(a), 1e-15);
+    EXPECT_EQ(rotation_code_for(a), r);
+    EXPECT_EQ(rotation_code_for(a - 2 * 3.14159265358979323846), r);
+  }
+  EXPECT_EQ(patch_scale(0), 1.0);
+  EXPECT_EQ(patch_scale(4), 2.0);
+  EXPECT_EQ(patch_scale(-4), 0.5);
+  EXPECT_EQ(patch_scale(-1), 0x1.ae89f995ad3adp-1);
+  EXPECT_EQ(patch_scale(2), 0x1.6a09e667f3bcdp+0);
+  EXPECT_EQ(patch_scale(32), 256.0);
+  EXPECT_EQ(patch_scale(-32), 1.0 / 256.0);
+  for (int32_t k = kMinScaleStep; k <= kMaxScaleStep; ++k) {
+    EXPECT_NEAR(patch_scale(k), std::exp2(k / 4.0), 1e-15 * std::exp2(k / 4.0));
+    EXPECT_EQ(scale_step_for(patch_scale(k)), k);
+  }
+}
+
+TEST(Bitstream, ApplyPlacementsFormula) {
+  UvMap map;
+  map.texel_scale = 10.0f;
+  map.atlas_width = 200;
+  map.atlas_height = 100;
+  map.patch_count = 1;
+  map.patch_of_face = {0};
+  map.placements = {PatchPlacement{64, 50, 40, 0, 4}};  // 90 degrees, scale 2
+  const std::vector<double> xy = {0, 0, 1, 0, 0, 1};
+  std::vector<float> uv;
+  ASSERT_EQ(apply_placements(xy, map, uv), UvStatus::ok);
+  const std::vector<float> want = {0.25f, 0.4f, 0.25f, 0.6f, 0.15f, 0.4f};
+  EXPECT_EQ(uv, want);
+  EXPECT_EQ(apply_placements(std::vector<double>(5), map, uv), UvStatus::bad_argument);
+}
+
+TEST(Bitstream, StatusStrings) {
+  for (int s = 0; s <= static_cast<int>(UvStatus::layout_unreachable_face); ++s)
+    EXPECT_STRNE(to_string(static_cast<UvStatus>(s)), "unknown status");
+}
