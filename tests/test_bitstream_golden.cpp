@@ -1,0 +1,115 @@
+// Golden bitstreams: frozen bytes per format version (tests/golden/), the
+// decoded map they must give, and a hash (FNV-1a over the float bytes) of
+// the UVs decode_uvs must produce from them, bit for bit, on every platform
+// (DESIGN.md, "The rule that makes the format work"). If the UV hash changes,
+// the layout replay or apply_placements changed: that breaks every file ever
+// written and needs a new format version, not a new hash.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <string>
+
+#include "format/decode_uvs.h"
+#include "format/uvmap_codec.h"
+#include "golden/uvmap_v1_0.h"
+#include "test_bitstream_util.h"
+
+using namespace gltfwarp;
+
+namespace {
+
+// The golden mesh: a 12 x 8 grid on the saddle z = 0.75 x y (not developable,
+// so the relaxation matters), row-major, two triangles per quad. Built with
+// float arithmetic only (no libm), so every platform gets the same positions.
+TriMesh golden_mesh() {
+  const uint32_t nx = 12, ny = 8;
+  TriMesh m;
+  for (uint32_t j = 0; j <= ny; ++j)
+    for (uint32_t i = 0; i <= nx; ++i) {
+      const float x = static_cast<float>(i) / 12.0f, y = static_cast<float>(j) / 8.0f;
+      m.positions.insert(m.positions.end(), {x, y, 0.75f * x * y});
+    }
+  for (uint32_t j = 0; j < ny; ++j)
+    for (uint32_t i = 0; i < nx; ++i) {
+      const uint32_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
+      m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
+    }
+  return m;
+}
+
+// The golden map: 4 x 4-quad blocks (and an odd one-face patch), three pages,
+// rotations and per-patch scales, so every field of 1.0 is exercised.
+UvMap golden_map(const TriMesh& m) {
+  UvMap map;
+  map.tau = 1.25f;
+  map.texel_scale = 300.0f;
+  map.atlas_width = 1024;
+  map.atlas_height = 512;
+  map.page_count = 3;
+  map.patch_of_face.resize(m.face_count());
+  for (uint32_t f = 0; f < m.face_count(); ++f) {
+    const uint32_t quad = f / 2, i = quad % 12, j = quad / 12;
+    map.patch_of_face[f] = (j / 4) * 3 + i / 4;
+  }
+  map.patch_of_face[2 * (12 * 5 + 6) + 1] = 100;  // one lone triangle in the middle of a block
+  map.patch_count = testutil::renumber_by_lowest_face(map.patch_of_face);
+  for (uint32_t p = 0; p < map.patch_count; ++p) {
+    PatchPlacement pl;
+    pl.rotation = (p * 37u) % kRotationSteps;
+    pl.x = static_cast<int32_t>(100 + 130 * p);
+    pl.y = static_cast<int32_t>(60 + 50 * (p % 7));
+    pl.page = p % 3;
+    pl.scale_step = static_cast<int32_t>(p % 5) - 2;
+    map.placements.push_back(pl);
+  }
+  return map;
+}
+
+std::string hex(const std::vector<uint8_t>& b) {
+  std::string s;
+  char buf[8];
+  for (size_t i = 0; i < b.size(); ++i) {
+    std::snprintf(buf, sizeof buf, "0x%02x,%s", b[i], (i % 12 == 11) ? "\n" : " ");
+    s += buf;
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(BitstreamGolden, WriterReproducesV1_0Bytes) {
+  const TriMesh mesh = golden_mesh();
+  const UvMap map = golden_map(mesh);
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0));
+  EXPECT_EQ(bytes, golden) << "writer output changed; new bytes:\n" << hex(bytes);
+}
+
+TEST(BitstreamGolden, V1_0DecodesToFrozenUvs) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0));
+  UvMap map;
+  std::vector<float> uv;
+  ASSERT_EQ(decode_uvs(mesh, golden, uv, &map), UvStatus::ok);
+  EXPECT_EQ(map, golden_map(mesh));
+  ASSERT_EQ(uv.size(), size_t{mesh.face_count()} * 6);
+  const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
+  EXPECT_EQ(h, golden::kUvMapV1_0UvHash) << std::hex << "0x" << h;
+  // Spot values, so a mismatch shows where (corner 0 is the first seed vertex).
+  EXPECT_EQ(uv[0], golden::kUvMapV1_0Corner0[0]);
+  EXPECT_EQ(uv[1], golden::kUvMapV1_0Corner0[1]);
+}
+
+TEST(BitstreamGolden, V1_0EveryTruncationIsRejected) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0));
+  for (size_t len = 0; len < golden.size(); ++len) {
+    std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
+    std::vector<float> uv;
+    EXPECT_EQ(decode_uvs(mesh, cut, uv), UvStatus::truncated) << len;
+  }
+  auto longer = golden;
+  longer.push_back(0);
+  std::vector<float> uv;
+  EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
+}
