@@ -1,0 +1,53 @@
+// Image bytes <-> pixels, in memory, through OpenImageIO (no temporary files).
+//
+// Source: OIIO 2.4's IOProxy interface (Filesystem::IOMemReader and
+// IOVecOutput), as documented in the OpenImageIO manual, "Custom I/O proxies".
+// JPEG quality estimation inverts the IJG quality scaling of the standard
+// luminance quantization table (ITU-T T.81 Annex K, libjpeg jcparam.c).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imagebuf.h>
+
+namespace gltfwarp {
+
+enum class ImageCodec : uint8_t { unknown, png, jpeg, webp, ktx2, other };
+const char* to_string(ImageCodec c);
+
+// By magic bytes; never decodes.
+ImageCodec sniff_image_codec(std::span<const uint8_t> bytes);
+
+// glTF mimeType for a codec ("image/png", "image/jpeg", ...; "" for unknown).
+const char* mime_type(ImageCodec c);
+
+struct DecodedImage {
+  OIIO::ImageBuf pixels;  // first subimage, native format (uint8 or uint16 usually)
+  ImageCodec codec = ImageCodec::unknown;
+  int jpeg_quality = 0;   // estimated IJG quality (1..100) for JPEG sources, else 0
+};
+
+// Decodes PNG, JPEG or anything else OIIO reads from memory. Returns "" on
+// success, or a one-line error (e.g. for KTX2/Basis, which OIIO cannot
+// decode: the caller should then pass the image through untouched).
+std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out);
+
+struct EncodeOptions {
+  ImageCodec codec = ImageCodec::png;  // png or jpeg
+  int jpeg_quality = 90;               // 1..100, IJG scale
+  int png_compression = 6;             // zlib level 0..9
+};
+
+// Encodes `image` (1..4 channels; JPEG drops alpha) into `bytes`. Returns ""
+// on success or a one-line error.
+std::string encode_image(const OIIO::ImageBuf& image, const EncodeOptions& options,
+                         std::vector<uint8_t>& bytes);
+
+// Estimated IJG quality of JPEG bytes from their luminance quantization
+// table, or 0 when there is none.
+int estimate_jpeg_quality(std::span<const uint8_t> bytes);
+
+}  // namespace gltfwarp

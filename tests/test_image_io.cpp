@@ -1,0 +1,100 @@
+// Image I/O: PNG and JPEG round trips in memory, errors for bytes OIIO cannot decode.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "codec/image_io.h"
+
+namespace gltfwarp {
+namespace {
+
+OIIO::ImageBuf gradient(int w, int h, int nch) {
+  OIIO::ImageBuf buf(OIIO::ImageSpec(w, h, nch, OIIO::TypeDesc::UINT8));
+  auto* p = static_cast<uint8_t*>(buf.localpixels());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < nch; ++c)
+        p[(size_t(y) * w + x) * nch + c] = uint8_t((x * 3 + y * 5 + c * 40) & 255);
+  return buf;
+}
+
+TEST(ImageIo, PngRoundTripIsExact) {
+  for (int nch : {1, 2, 3, 4}) {
+    const OIIO::ImageBuf img = gradient(37, 21, nch);
+    std::vector<uint8_t> bytes;
+    ASSERT_EQ(encode_image(img, EncodeOptions{}, bytes), "");
+    EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::png);
+    DecodedImage dec;
+    ASSERT_EQ(decode_image(bytes, dec), "");
+    ASSERT_EQ(dec.pixels.spec().width, 37);
+    ASSERT_EQ(dec.pixels.spec().height, 21);
+    ASSERT_EQ(dec.pixels.spec().nchannels, nch);
+    EXPECT_EQ(dec.codec, ImageCodec::png);
+    const auto* a = static_cast<const uint8_t*>(img.localpixels());
+    const auto* b = static_cast<const uint8_t*>(dec.pixels.localpixels());
+    EXPECT_EQ(0, std::memcmp(a, b, size_t(37) * 21 * nch)) << nch << " channels";
+  }
+}
+
+TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
+  // A smooth image, so JPEG at high quality is close.
+  OIIO::ImageBuf img(OIIO::ImageSpec(64, 48, 3, OIIO::TypeDesc::UINT8));
+  auto* p = static_cast<uint8_t*>(img.localpixels());
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) p[(y * 64 + x) * 3 + c] = uint8_t(60 + x + y + 20 * c);
+  for (int q : {50, 75, 92}) {
+    EncodeOptions opt;
+    opt.codec = ImageCodec::jpeg;
+    opt.jpeg_quality = q;
+    std::vector<uint8_t> bytes;
+    ASSERT_EQ(encode_image(img, opt, bytes), "");
+    EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::jpeg);
+    EXPECT_NEAR(estimate_jpeg_quality(bytes), q, 2);
+    DecodedImage dec;
+    ASSERT_EQ(decode_image(bytes, dec), "");
+    EXPECT_EQ(dec.codec, ImageCodec::jpeg);
+    EXPECT_NEAR(dec.jpeg_quality, q, 2);
+    ASSERT_EQ(dec.pixels.spec().nchannels, 3);
+    const auto* b = static_cast<const uint8_t*>(dec.pixels.localpixels());
+    double err = 0;
+    for (size_t i = 0; i < size_t(64) * 48 * 3; ++i) err = std::max(err, std::abs(double(p[i]) - b[i]));
+    EXPECT_LT(err, q >= 90 ? 6 : 16) << "quality " << q;
+  }
+}
+
+TEST(ImageIo, JpegDropsAlpha) {
+  const OIIO::ImageBuf img = gradient(16, 16, 4);
+  EncodeOptions opt;
+  opt.codec = ImageCodec::jpeg;
+  std::vector<uint8_t> bytes;
+  ASSERT_EQ(encode_image(img, opt, bytes), "");
+  DecodedImage dec;
+  ASSERT_EQ(decode_image(bytes, dec), "");
+  EXPECT_EQ(dec.pixels.spec().nchannels, 3);
+}
+
+TEST(ImageIo, GarbageAndKtx2GiveErrors) {
+  DecodedImage dec;
+  const std::vector<uint8_t> empty;
+  EXPECT_NE(decode_image(empty, dec), "");
+  std::vector<uint8_t> garbage(1000);
+  for (size_t i = 0; i < garbage.size(); ++i) garbage[i] = uint8_t(i * 7919 % 251);
+  EXPECT_NE(decode_image(garbage, dec), "");
+  // A PNG signature followed by garbage.
+  std::vector<uint8_t> bad_png = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A, 0, 0, 0, 13, 'I', 'H'};
+  bad_png.insert(bad_png.end(), garbage.begin(), garbage.begin() + 100);
+  EXPECT_NE(decode_image(bad_png, dec), "");
+  // A truncated real PNG.
+  std::vector<uint8_t> bytes;
+  ASSERT_EQ(encode_image(gradient(32, 32, 3), EncodeOptions{}, bytes), "");
+  bytes.resize(bytes.size() / 2);
+  EXPECT_NE(decode_image(bytes, dec), "");
+  std::vector<uint8_t> ktx2 = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A, 0, 0};
+  EXPECT_EQ(sniff_image_codec(ktx2), ImageCodec::ktx2);
+  const std::string e = decode_image(ktx2, dec);
+  EXPECT_NE(e.find("KTX2"), std::string::npos) << e;
+}
+
+}  // namespace
+}  // namespace gltfwarp
