@@ -124,7 +124,7 @@ std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out) {
   return "";
 }
 
-std::string encode_image(const ImageBuf& image, const EncodeOptions& options,
+std::string encode_image(const ImageBuf& image, const ImageEncodeOptions& options,
                          std::vector<uint8_t>& bytes) {
   bytes.clear();
   if (!image.initialized()) return "empty image";
@@ -158,6 +158,54 @@ std::string encode_image(const ImageBuf& image, const EncodeOptions& options,
   }
   if (!o->close()) return "cannot finish encoding: " + o->geterror();
   return "";
+}
+
+bool image_size(std::span<const uint8_t> bytes, int& width, int& height, std::string& error) {
+  width = height = 0;
+  const ImageCodec codec = sniff_image_codec(bytes);
+  if (codec == ImageCodec::ktx2) {
+    // KTX2 header: pixelWidth and pixelHeight are little-endian uint32 at 20 and 24.
+    if (bytes.size() < 28) return error = "truncated KTX2 header", false;
+    auto u32 = [&](size_t o) {
+      return uint32_t(bytes[o]) | uint32_t(bytes[o + 1]) << 8 | uint32_t(bytes[o + 2]) << 16 |
+             uint32_t(bytes[o + 3]) << 24;
+    };
+    width = int(std::min<uint32_t>(u32(20), 1u << 30));
+    height = int(std::min<uint32_t>(std::max<uint32_t>(u32(24), 1), 1u << 30));
+    return true;
+  }
+  if (bytes.empty()) return error = "empty image data", false;
+  const char* name = codec == ImageCodec::jpeg ? "image.jpg" : codec == ImageCodec::webp ? "image.webp" : "image.png";
+  OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
+  ImageSpec config;
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", TypeDesc::PTR, &proxy);
+  auto in = ImageInput::open(name, &config, &reader);
+  if (!in) {
+    std::string e = OIIO::geterror();
+    error = "cannot read the image header" + (e.empty() ? std::string() : ": " + e.substr(0, e.find('\n')));
+    return false;
+  }
+  width = in->spec().width;
+  height = in->spec().height;
+  return true;
+}
+
+bool decode_image(std::span<const uint8_t> bytes, ImageBuf& pixels, std::string& error) {
+  DecodedImage d;
+  error = decode_image(bytes, d);
+  if (!error.empty()) return false;
+  pixels = std::move(d.pixels);
+  return true;
+}
+
+bool encode_image(const ImageBuf& image, const std::string& mime, int jpeg_quality,
+                  std::vector<uint8_t>& bytes, std::string& error) {
+  ImageEncodeOptions o;
+  o.codec = mime == "image/jpeg" ? ImageCodec::jpeg : ImageCodec::png;
+  o.jpeg_quality = jpeg_quality;
+  error = encode_image(image, o, bytes);
+  return error.empty();
 }
 
 }  // namespace gltfwarp

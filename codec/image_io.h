@@ -35,7 +35,7 @@ struct DecodedImage {
 // decode: the caller should then pass the image through untouched).
 std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out);
 
-struct EncodeOptions {
+struct ImageEncodeOptions {
   ImageCodec codec = ImageCodec::png;  // png or jpeg
   int jpeg_quality = 90;               // 1..100, IJG scale
   int png_compression = 6;             // zlib level 0..9
@@ -43,8 +43,16 @@ struct EncodeOptions {
 
 // Encodes `image` (1..4 channels; JPEG drops alpha) into `bytes`. Returns ""
 // on success or a one-line error.
-std::string encode_image(const OIIO::ImageBuf& image, const EncodeOptions& options,
+std::string encode_image(const OIIO::ImageBuf& image, const ImageEncodeOptions& options,
                          std::vector<uint8_t>& bytes);
+
+// Convenience forms returning true on success, the error in `error`.
+// Width and height from the header only (no pixel decode).
+bool image_size(std::span<const uint8_t> bytes, int& width, int& height, std::string& error);
+bool decode_image(std::span<const uint8_t> bytes, OIIO::ImageBuf& pixels, std::string& error);
+// mime "image/jpeg" gives JPEG at jpeg_quality, anything else PNG.
+bool encode_image(const OIIO::ImageBuf& image, const std::string& mime, int jpeg_quality,
+                  std::vector<uint8_t>& bytes, std::string& error);
 
 // Estimated IJG quality of JPEG bytes from their luminance quantization
 // table, or 0 when there is none.

@@ -8,36 +8,17 @@
 #include <numeric>
 
 #include "codec/geometry2d.h"
+#include "format/decode_uvs.h"
 
 namespace gltfwarp {
 namespace {
 
-// ---- The format's placement arithmetic. format/ owns these definitions; the
-// packer must rasterise exactly the footprint the decoder reproduces.
-constexpr uint32_t kRotSteps = 256;
-constexpr double kPi = 3.14159265358979323846;
-
-void rot_cs(uint32_t code, double& c, double& s) {
-  code %= kRotSteps;
-  if (code % (kRotSteps / 4) == 0) {  // exact quarter turns
-    static const double cs[4][2] = {{1, 0}, {0, 1}, {-1, 0}, {0, -1}};
-    c = cs[code / (kRotSteps / 4)][0];
-    s = cs[code / (kRotSteps / 4)][1];
-    return;
-  }
-  const double a = 2 * kPi * double(code) / kRotSteps;
-  c = std::cos(a);
-  s = std::sin(a);
-}
-
-uint32_t rot_code(double radians) {
-  double t = radians / (2 * kPi) * kRotSteps;
-  long long k = std::llround(t) % (long long)kRotSteps;
-  if (k < 0) k += kRotSteps;
-  return uint32_t(k);
-}
-
-double pscale(int32_t step) { return step == 0 ? 1.0 : std::exp2(double(step) / 8.0); }
+// The format's placement arithmetic (format/uvmap.h): the packer rasterises
+// exactly the footprint the decoder reproduces.
+constexpr uint32_t kRotSteps = kRotationSteps;
+void rot_cs(uint32_t code, double& c, double& s) { rotation_cos_sin(code, c, s); }
+uint32_t rot_code(double radians) { return rotation_code_for(radians); }
+double pscale(int32_t step) { return patch_scale(step); }
 
 // ---- Patch footprints.
 
@@ -103,13 +84,14 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
                 std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
   double c, s;
   rot_cs(code, c, s);
+  const double sc = scale * c, ss = scale * s;
   q.resize(faces.size() * 6);
   double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
   for (size_t k = 0; k < faces.size(); ++k) {
     for (int v = 0; v < 3; ++v) {
       const double x = pr.corner_xy[6 * size_t(faces[k]) + 2 * v];
       const double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
-      const double qx = scale * (c * x - s * y), qy = scale * (s * x + c * y);
+      const double qx = sc * x - ss * y, qy = ss * x + sc * y;  // as apply_placements
       q[6 * k + 2 * v] = qx;
       q[6 * k + 2 * v + 1] = qy;
       minx = std::min(minx, qx), maxx = std::max(maxx, qx);
@@ -253,10 +235,11 @@ void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
     const double s = double(map.texel_scale) * pscale(pl.scale_step);
     double c, sn;
     rot_cs(pl.rotation, c, sn);
+    const double sc = s * c, ss = s * sn;
     for (int v = 0; v < 3; ++v) {
       const double x = corner_xy[6 * f + 2 * v], y = corner_xy[6 * f + 2 * v + 1];
-      corner_texel[6 * f + 2 * v] = s * (c * x - sn * y) + pl.x;
-      corner_texel[6 * f + 2 * v + 1] = s * (sn * x + c * y) + pl.y;
+      corner_texel[6 * f + 2 * v] = (sc * x - ss * y) + double(pl.x);
+      corner_texel[6 * f + 2 * v + 1] = (ss * x + sc * y) + double(pl.y);
     }
   }
 }
@@ -269,8 +252,20 @@ void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> 
   uint32_t pages = 0;
   for (const UvMap& m : maps) pages = std::max(pages, m.page_count);
   report.atlas_texels = uint64_t(w) * h * pages;
+  // The decoder's own UVs (apply_placements), back in texels.
   std::vector<std::vector<double>> texels(prims.size());
-  for (size_t i = 0; i < prims.size(); ++i) placed_corner_texels(prims[i].corner_xy, maps[i], texels[i]);
+  std::vector<float> uv;
+  for (size_t i = 0; i < prims.size(); ++i) {
+    if (apply_placements(prims[i].corner_xy, maps[i], uv) != UvStatus::ok) {
+      placed_corner_texels(prims[i].corner_xy, maps[i], texels[i]);
+      continue;
+    }
+    texels[i].resize(uv.size());
+    for (size_t k = 0; k < uv.size(); k += 2) {
+      texels[i][k] = double(uv[k]) * w;
+      texels[i][k + 1] = double(uv[k + 1]) * h;
+    }
+  }
   std::vector<uint32_t> owner(size_t(w) * h);
   for (uint32_t page = 0; page < pages; ++page) {
     std::fill(owner.begin(), owner.end(), 0);

@@ -22,7 +22,7 @@ TEST(ImageIo, PngRoundTripIsExact) {
   for (int nch : {1, 2, 3, 4}) {
     const OIIO::ImageBuf img = gradient(37, 21, nch);
     std::vector<uint8_t> bytes;
-    ASSERT_EQ(encode_image(img, EncodeOptions{}, bytes), "");
+    ASSERT_EQ(encode_image(img, ImageEncodeOptions{}, bytes), "");
     EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::png);
     DecodedImage dec;
     ASSERT_EQ(decode_image(bytes, dec), "");
@@ -44,7 +44,7 @@ TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
     for (int x = 0; x < 64; ++x)
       for (int c = 0; c < 3; ++c) p[(y * 64 + x) * 3 + c] = uint8_t(60 + x + y + 20 * c);
   for (int q : {50, 75, 92}) {
-    EncodeOptions opt;
+    ImageEncodeOptions opt;
     opt.codec = ImageCodec::jpeg;
     opt.jpeg_quality = q;
     std::vector<uint8_t> bytes;
@@ -65,13 +65,34 @@ TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
 
 TEST(ImageIo, JpegDropsAlpha) {
   const OIIO::ImageBuf img = gradient(16, 16, 4);
-  EncodeOptions opt;
+  ImageEncodeOptions opt;
   opt.codec = ImageCodec::jpeg;
   std::vector<uint8_t> bytes;
   ASSERT_EQ(encode_image(img, opt, bytes), "");
   DecodedImage dec;
   ASSERT_EQ(decode_image(bytes, dec), "");
   EXPECT_EQ(dec.pixels.spec().nchannels, 3);
+}
+
+TEST(ImageIo, SizeAndConvenienceForms) {
+  const OIIO::ImageBuf img = gradient(40, 24, 3);
+  std::vector<uint8_t> bytes;
+  std::string err;
+  ASSERT_TRUE(encode_image(img, "image/jpeg", 85, bytes, err)) << err;
+  EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::jpeg);
+  int w = 0, h = 0;
+  ASSERT_TRUE(image_size(bytes, w, h, err)) << err;
+  EXPECT_EQ(w, 40);
+  EXPECT_EQ(h, 24);
+  OIIO::ImageBuf back;
+  ASSERT_TRUE(decode_image(bytes, back, err)) << err;
+  EXPECT_EQ(back.spec().width, 40);
+  ASSERT_TRUE(encode_image(img, "image/png", 0, bytes, err)) << err;
+  EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::png);
+  const std::vector<uint8_t> junk(64, 0x42);
+  EXPECT_FALSE(image_size(junk, w, h, err));
+  EXPECT_FALSE(err.empty());
+  EXPECT_FALSE(decode_image(junk, back, err));
 }
 
 TEST(ImageIo, GarbageAndKtx2GiveErrors) {
@@ -87,7 +108,7 @@ TEST(ImageIo, GarbageAndKtx2GiveErrors) {
   EXPECT_NE(decode_image(bad_png, dec), "");
   // A truncated real PNG.
   std::vector<uint8_t> bytes;
-  ASSERT_EQ(encode_image(gradient(32, 32, 3), EncodeOptions{}, bytes), "");
+  ASSERT_EQ(encode_image(gradient(32, 32, 3), ImageEncodeOptions{}, bytes), "");
   bytes.resize(bytes.size() / 2);
   EXPECT_NE(decode_image(bytes, dec), "");
   std::vector<uint8_t> ktx2 = {0xAB, 'K', 'T', 'X', ' ', '2', '0', 0xBB, 0x0D, 0x0A, 0x1A, 0x0A, 0, 0};
