@@ -51,7 +51,7 @@ UvStatus lower_neighbours(const TriMesh& mesh, std::vector<uint32_t>& lower) {
 
 // ---- partition model (shared by writer and reader) ------------------------------
 struct PartitionModel {
-  rc::BitModel hit[3][3];    // [min(m,3)-1][seam context]
+  rc::BitModel hit[3][3][3];  // [m-1][seam context][lower neighbours - 1]
   rc::BitModel pick2[3];     // m == 2: second candidate?
   rc::BitModel pick3[2][3];  // m == 3: not first? then third?
   rc::BitModel fresh[2];     // [m > 0]: new patch (1) or explicit earlier id (0)
@@ -60,12 +60,13 @@ struct PartitionModel {
 // Candidate patches of face f: distinct patches of its lower neighbours, most
 // frequent first, ties by edge order. Returns m; seam context in *ctx.
 uint32_t candidates(const uint32_t* lower3, const uint32_t* patch_of_face, const uint8_t* seam,
-                    uint32_t cand[3], uint32_t* ctx) {
+                    uint32_t cand[3], uint32_t* ctx, uint32_t* nlower) {
   uint32_t count[3] = {0, 0, 0};
-  uint32_t m = 0, seams = 0;
+  uint32_t m = 0, seams = 0, n = 0;
   for (uint32_t k = 0; k < 3; ++k) {
     const uint32_t g = lower3[k];
     if (g == kNone) continue;
+    ++n;
     seams += seam[g];
     const uint32_t p = patch_of_face[g];
     uint32_t i = 0;
@@ -80,6 +81,7 @@ uint32_t candidates(const uint32_t* lower3, const uint32_t* patch_of_face, const
       std::swap(cand[j], cand[j - 1]);
     }
   *ctx = std::min(seams, 2u);
+  *nlower = n;
   return m;
 }
 
@@ -251,14 +253,14 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
     uint32_t created = nf > 0 ? 1 : 0;
     if (nf > 0) seam[0] = 1;
     for (uint32_t f = 1; f < nf; ++f) {
-      uint32_t cand[3], ctx;
-      const uint32_t m = candidates(&lower[3 * f], map.patch_of_face.data(), seam.data(), cand, &ctx);
+      uint32_t cand[3], ctx, nl;
+      const uint32_t m = candidates(&lower[3 * f], map.patch_of_face.data(), seam.data(), cand, &ctx, &nl);
       const uint32_t p = map.patch_of_face[f];
       uint32_t idx = 0;
       while (idx < m && cand[idx] != p) ++idx;
       const bool hit = idx < m;
       if (m > 0) {
-        pe.bit(pm.hit[std::min(m, 3u) - 1][ctx], hit ? 1 : 0);
+        pe.bit(pm.hit[m - 1][ctx][nl - 1], hit ? 1 : 0);
         if (hit && m == 2) pe.bit(pm.pick2[ctx], idx);
         if (hit && m == 3) {
           pe.bit(pm.pick3[0][ctx], idx > 0);
@@ -367,12 +369,12 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
     uint32_t created = nf > 0 ? 1 : 0;
     if (nf > 0) seam[0] = 1;
     for (uint32_t f = 1; f < nf; ++f) {
-      uint32_t cand[3], ctx;
-      const uint32_t m = candidates(&lower[3 * f], out.patch_of_face.data(), seam.data(), cand, &ctx);
+      uint32_t cand[3], ctx, nl;
+      const uint32_t m = candidates(&lower[3 * f], out.patch_of_face.data(), seam.data(), cand, &ctx, &nl);
       bool hit = false;
       uint32_t p = 0;
       if (m > 0) {
-        hit = pd.bit(pm.hit[std::min(m, 3u) - 1][ctx]) == 1;
+        hit = pd.bit(pm.hit[m - 1][ctx][nl - 1]) == 1;
         if (hit) {
           uint32_t idx = 0;
           if (m == 2) idx = pd.bit(pm.pick2[ctx]);
