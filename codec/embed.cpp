@@ -22,8 +22,11 @@
 #include "codec/embed.h"
 
 #include <algorithm>
+#include <array>
+#include <set>
 #include <cmath>
 #include <numeric>
+#include <limits>
 #include <queue>
 
 #include "codec/distortion.h"
@@ -102,10 +105,16 @@ class TriangleGrid {
   // stored triangles' corners (6 doubles per face).
   bool overlaps(const Vec2 P[3], const std::vector<double>& xy) {
     ++query_;
+    const double lx = std::min({P[0].x, P[1].x, P[2].x}), hx = std::max({P[0].x, P[1].x, P[2].x});
+    const double ly = std::min({P[0].y, P[1].y, P[2].y}), hy = std::max({P[0].y, P[1].y, P[2].y});
     auto test = [&](uint32_t g) {
       if (seen_[g] == query_) return false;
       seen_[g] = query_;
       const double* c = &xy[6 * size_t{g}];
+      // Boxes that only touch cannot hold overlapping interiors.
+      if (std::max({c[0], c[2], c[4]}) <= lx || std::min({c[0], c[2], c[4]}) >= hx ||
+          std::max({c[1], c[3], c[5]}) <= ly || std::min({c[1], c[3], c[5]}) >= hy)
+        return false;
       const Vec2 Q[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
       return triangles_overlap(P, Q);
     };
@@ -162,6 +171,7 @@ class TriangleGrid {
 // faces that are free and carry a given region label.
 class Grower {
  public:
+  const TriMesh& mesh() const { return m_; }
   Grower(const TriMesh& m, const VertexFaces& vf, const EmbedOptions& o)
       : m_(m), vf_(vf), opt_(o) {
     const uint32_t nf = m.face_count(), nv = m.vertex_count();
@@ -172,6 +182,7 @@ class Grower {
     round_of_.assign(nv, 0);
     listed_.assign(nv, 0);
     closed_.assign(nf, 0);
+    banned_.assign(nv, 0);
     pos_.resize(nv);
     double sum = 0;
     size_t n = 0;
@@ -186,12 +197,18 @@ class Grower {
   std::vector<uint32_t> face_patch;  // kNone = free
   std::vector<uint32_t> region;      // growth stays within the seed's label
   std::vector<double> xy;            // encoder positions per corner of assigned faces
+  Vec2 position(uint32_t v) const { return pos_[v]; }  // of a vertex of the last grown patch
 
   // Grows patch `id` from `seed` (which must be free; it is the patch's lowest
   // face if the caller seeds at the lowest free face of the label). Appends
   // the patch's faces to `faces` and its placed vertices to `verts`.
-  void grow(uint32_t seed, uint32_t id, std::vector<uint32_t>& faces,
-            std::vector<uint32_t>& verts) {
+  //
+  // all_or_nothing: the caller needs every free face of the label in this
+  // patch (a merge trial), so the first face closed ends the growth; returns
+  // false then. plain: the paper's rule, a rejected vertex is discarded from
+  // the patch for good and no subset of its faces is tried.
+  bool grow(uint32_t seed, uint32_t id, std::vector<uint32_t>& faces,
+            std::vector<uint32_t>& verts, bool all_or_nothing = false, bool plain = false) {
     ++gen_;
     grid_.reset();
     faces.clear();
@@ -214,7 +231,7 @@ class Grower {
     faces.push_back(seed);
     if (face_has_repeated_vertex(m_, seed) || orient2d_sign(sp[0], sp[1], sp[2]) <= 0 ||
         !(face_distortion(m_, seed, sp) <= opt_.tau))
-      return;  // a degenerate seed stays a singleton patch
+      return !all_or_nothing;  // a degenerate seed stays a singleton patch
     grid_.insert(seed, sp);
 
     auto available = [&](uint32_t f) {
@@ -230,7 +247,7 @@ class Grower {
           const uint32_t* t = idx + 3 * f;
           for (int k = 0; k < 3; ++k) {
             const uint32_t q = t[k];
-            if (placed_[q] == gen_ || listed_[q] == list_stamp_) continue;
+            if (placed_[q] == gen_ || listed_[q] == list_stamp_ || banned_[q] == gen_) continue;
             if (placed_[t[(k + 1) % 3]] == gen_ && placed_[t[(k + 2) % 3]] == gen_) {
               listed_[q] = list_stamp_;
               list_.push_back(q);
@@ -252,7 +269,7 @@ class Grower {
           if (placed_[a] != gen_ || placed_[b] != gen_) continue;
           cand_.push_back({f, a, b, k, round_of_[a] < round && round_of_[b] < round, true});
         }
-        const bool accepted = try_place(q);
+        const bool accepted = try_place(q, plain ? 1 : opt_.place_attempts);
         if (accepted) {
           placed_[q] = gen_;
           round_of_[q] = round;
@@ -262,6 +279,7 @@ class Grower {
           for (const Cand& c : cand_) {
             if (!c.in) {
               closed_[c.f] = gen_;
+              if (all_or_nothing) return false;
               continue;
             }
             Vec2 P[3];
@@ -271,11 +289,14 @@ class Grower {
             faces.push_back(c.f);
           }
         } else {
+          if (plain) banned_[q] = gen_;
           for (const Cand& c : cand_)
-            if (c.at_start) closed_[c.f] = gen_;
+            if (c.at_start || plain) closed_[c.f] = gen_;
+          if (all_or_nothing && !cand_.empty()) return false;
         }
       }
     }
+    return true;
   }
 
  private:
@@ -301,8 +322,8 @@ class Grower {
   }
 
   // Chooses S within cand_ (marking .in) and the point trial_; false = reject.
-  bool try_place(uint32_t q) {
-    for (int attempt = 0; attempt < opt_.place_attempts; ++attempt) {
+  bool try_place(uint32_t q, int attempts) {
+    for (int attempt = 0; attempt < attempts; ++attempt) {
       bool any_start = false;
       unf_.clear();
       for (const Cand& c : cand_) {
@@ -336,7 +357,7 @@ class Grower {
   const TriMesh& m_;
   const VertexFaces& vf_;
   const EmbedOptions& opt_;
-  std::vector<uint32_t> placed_, round_of_, listed_, closed_;
+  std::vector<uint32_t> placed_, round_of_, listed_, closed_, banned_;
   std::vector<Vec2> pos_;
   std::vector<uint32_t> fresh_, list_;
   std::vector<Cand> cand_;
@@ -360,6 +381,20 @@ double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy
     scratch.insert(scratch.end(), P, P + 3);
   }
   if (area_out) *area_out = area;
+  const OrientedRect r = min_area_rect(convex_hull(scratch));
+  return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
+}
+
+// Fill from the patch's placed vertices (the hull only needs each once).
+double fill_from_vertices(const Grower& g, std::span<const uint32_t> faces,
+                          std::span<const uint32_t> verts, std::vector<Vec2>& scratch) {
+  double area = 0;
+  for (uint32_t f : faces) {
+    const double* c = &g.xy[6 * size_t{f}];
+    area += std::fabs(orient2d({c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]})) * 0.5;
+  }
+  scratch.clear();
+  for (uint32_t v : verts) scratch.push_back(g.position(v));
   const OrientedRect r = min_area_rect(convex_hull(scratch));
   return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
 }
@@ -435,18 +470,138 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
   }
 }
 
+// Compact mode, step 2: Lloyd iterations over the regions (as in VSA's
+// flooding): every region re-seeds at the face nearest its area centroid,
+// then all seeds flood at once by Dijkstra over face adjacency with a cost
+// that grows with the normal's deviation from the seed's normal. Regions
+// become Voronoi-like cells: compact, with short boundaries.
+void lloyd_regions(const TriMesh& m, const std::vector<uint32_t>& opp, int iterations,
+                   double normal_weight, std::vector<uint32_t>& region) {
+  const uint32_t nf = m.face_count();
+  std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
+  const float* p = m.positions.data();
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &m.indices[3 * f];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+      cen[3 * f + k] = (double(p[3 * t[0] + k]) + p[3 * t[1] + k] + p[3 * t[2] + k]) / 3.0;
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    area[f] = 0.5 * len;
+    if (len > 0 && std::isfinite(len))
+      for (int k = 0; k < 3; ++k) nrm[3 * f + k] = n[k] / len;
+  }
+  auto floodable = [&](uint32_t f) { return area[f] > 0 && !face_has_repeated_vertex(m, f); };
+  uint32_t nl = 0;
+  for (uint32_t r : region) nl = std::max(nl, r + 1);
+  std::vector<double> acc(size_t{nl} * 4), best(nl), dist(nf);
+  std::vector<uint32_t> seed(nl), owner(nf);
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  for (int it = 0; it < iterations; ++it) {
+    // Re-seed: the floodable face nearest each region's area centroid.
+    std::fill(acc.begin(), acc.end(), 0.0);
+    for (uint32_t f = 0; f < nf; ++f)
+      if (floodable(f)) {
+        double* a = &acc[4 * size_t{region[f]}];
+        for (int k = 0; k < 3; ++k) a[k] += area[f] * cen[3 * f + k];
+        a[3] += area[f];
+      }
+    std::fill(best.begin(), best.end(), std::numeric_limits<double>::infinity());
+    std::fill(seed.begin(), seed.end(), kNone);
+    for (uint32_t f = 0; f < nf; ++f) {
+      if (!floodable(f)) continue;
+      const uint32_t r = region[f];
+      const double* a = &acc[4 * size_t{r}];
+      double d = 0;
+      for (int k = 0; k < 3; ++k) {
+        const double x = cen[3 * f + k] - a[k] / a[3];
+        d += x * x;
+      }
+      if (d < best[r]) best[r] = d, seed[r] = f;
+    }
+    // Flood from all seeds at once.
+    std::fill(owner.begin(), owner.end(), kNone);
+    std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
+    for (uint32_t r = 0; r < nl; ++r)
+      if (seed[r] != kNone) {
+        dist[seed[r]] = 0;
+        owner[seed[r]] = r;
+        heap.push({0.0, seed[r]});
+      }
+    std::vector<uint32_t> seed_of_owner = seed;
+    while (!heap.empty()) {
+      const auto [d, f] = heap.top();
+      heap.pop();
+      if (d > dist[f]) continue;
+      const uint32_t r = owner[f];
+      const double* ns = &nrm[3 * size_t{seed_of_owner[r]}];
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone) continue;
+        const uint32_t g = o / 3;
+        if (!floodable(g)) continue;
+        const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
+                     dz = cen[3 * g + 2] - cen[3 * f + 2];
+        const double dev = 1.0 - (nrm[3 * g] * ns[0] + nrm[3 * g + 1] * ns[1] + nrm[3 * g + 2] * ns[2]);
+        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz) * (1.0 + normal_weight * dev);
+        if (nd < dist[g]) {
+          dist[g] = nd;
+          owner[g] = r;
+          heap.push({nd, g});
+        }
+      }
+    }
+    for (uint32_t f = 0; f < nf; ++f)
+      if (owner[f] != kNone) region[f] = owner[f];
+  }
+}
+
 // Grows patches covering every face: for each label, seeds at the lowest
 // free face of that label until the label is covered. Returns the patches'
 // face lists (patch ids are their index; creation order).
-void grow_all(Grower& g, std::vector<std::vector<uint32_t>>& patches) {
+void grow_all(Grower& g, std::vector<std::vector<uint32_t>>& patches, bool plain = false) {
   const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
   std::vector<uint32_t> faces, verts;
   for (uint32_t f = 0; f < nf; ++f) {
     if (g.face_patch[f] != kNone) continue;
     const uint32_t id = static_cast<uint32_t>(patches.size());
-    g.grow(f, id, faces, verts);
+    g.grow(f, id, faces, verts, false, plain);
     patches.push_back(faces);
   }
+}
+
+// Area-weighted normal sum of a face set (out[0..2]) and the largest angle
+// of a face normal to it (out[3], radians).
+void patch_cone(const TriMesh& m, std::span<const uint32_t> faces, double out[4]) {
+  const float* p = m.positions.data();
+  double s[3] = {0, 0, 0};
+  std::vector<double> n(faces.size() * 3);
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const uint32_t* t = &m.indices[3 * faces[i]];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+    }
+    n[3 * i] = e1[1] * e2[2] - e1[2] * e2[1];
+    n[3 * i + 1] = e1[2] * e2[0] - e1[0] * e2[2];
+    n[3 * i + 2] = e1[0] * e2[1] - e1[1] * e2[0];
+    for (int k = 0; k < 3; ++k) s[k] += n[3 * i + k];
+  }
+  const double ls = std::sqrt(s[0] * s[0] + s[1] * s[1] + s[2] * s[2]);
+  double worst = 1.0;
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const double* x = &n[3 * i];
+    const double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    if (lx > 0 && ls > 0) worst = std::min(worst, (x[0] * s[0] + x[1] * s[1] + x[2] * s[2]) / (lx * ls));
+  }
+  out[0] = s[0], out[1] = s[1], out[2] = s[2];
+  out[3] = std::acos(std::clamp(worst, -1.0, 1.0));
 }
 
 // Compact mode, step 3: merge adjacent patches, most shared edges first,
@@ -458,7 +613,10 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
   std::vector<double> fill(np, 1.0);
   std::vector<Vec2> scratch;
   for (uint32_t p = 0; p < np; ++p) fill[p] = patch_fill(patches[p], g.xy, scratch);
-  std::vector<uint32_t> touched(np, 0), faces, verts, unite;
+  std::vector<uint32_t> touched(np, 0), version(np, 0), faces, verts, unite;
+  std::vector<double> cone(size_t{np} * 4);
+  for (uint32_t p = 0; p < np; ++p) patch_cone(g.mesh(), patches[p], &cone[4 * size_t{p}]);
+  std::set<std::array<uint32_t, 4>> failed;
   std::vector<double> saved;
   uint32_t next_label = 0;
   for (uint32_t f : g.region) next_label = std::max(next_label, f == kNone ? 0 : f + 1);
@@ -490,6 +648,25 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
     bool merged_any = false;
     for (const Pair& pr : pairs) {
       if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
+      // A pair that failed is not retried until one side has changed.
+      const std::array<uint32_t, 4> memo = {pr.a, version[pr.a], pr.b, version[pr.b]};
+      if (failed.count(memo)) continue;
+      // A union whose normals spread too far cannot lie flat within tau
+      // (a spherical cap's limit is far below this); skip the costly trial.
+      {
+        const double* na = &cone[4 * size_t{pr.a}];
+        const double* nb = &cone[4 * size_t{pr.b}];
+        const double u[3] = {na[0] + nb[0], na[1] + nb[1], na[2] + nb[2]};
+        auto ang = [&](const double* x) {
+          const double lx = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+          const double lu = std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+          if (!(lx > 0) || !(lu > 0)) return 0.0;
+          const double c = (x[0] * u[0] + x[1] * u[1] + x[2] * u[2]) / (lx * lu);
+          return std::acos(std::clamp(c, -1.0, 1.0));
+        };
+        const double spread = std::max(ang(na) + na[3], ang(nb) + nb[3]);
+        if (spread > opt.merge_max_cone_deg * 3.14159265358979323846 / 180.0) continue;
+      }
       std::vector<uint32_t>& A = patches[pr.a];
       std::vector<uint32_t>& B = patches[pr.b];
       unite.assign(A.begin(), A.end());
@@ -504,11 +681,10 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
         g.face_patch[f] = kNone;
         seed = std::min(seed, f);
       }
-      g.grow(seed, pr.a, faces, verts);
-      bool ok = faces.size() == unite.size();
+      bool ok = g.grow(seed, pr.a, faces, verts, true) && faces.size() == unite.size();
       double fu = 0;
       if (ok) {
-        fu = patch_fill(faces, g.xy, scratch);
+        fu = fill_from_vertices(g, faces, verts, scratch);
         const size_t small = std::min(A.size(), B.size());
         ok = fu >= std::min(opt.merge_min_fill, std::min(fill[pr.a], fill[pr.b])) ||
              small <= opt.merge_small_faces;
@@ -518,8 +694,11 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
         A = faces;
         B.clear();
         fill[pr.a] = fu;
+        ++version[pr.a];
+        patch_cone(g.mesh(), A, &cone[4 * size_t{pr.a}]);
         merged_any = true;
       } else {
+        for (uint32_t f : faces) g.face_patch[f] = kNone;
         for (size_t i = 0; i < A.size() + B.size(); ++i) {
           const uint32_t f = unite[i];
           g.face_patch[f] = i < A.size() ? pr.a : pr.b;
@@ -527,6 +706,7 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
         }
         // Leave both free for another partner this round.
         touched[pr.a] = touched[pr.b] = 0;
+        failed.insert(memo);
       }
     }
     if (!merged_any) break;
@@ -548,10 +728,11 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
   std::vector<std::vector<uint32_t>> patches;
   if (opt.mode == PartitionMode::compact) {
     cluster_regions(mesh, opp, opt.region_cone_deg, g.region);
+    lloyd_regions(mesh, opp, opt.lloyd_iterations, opt.normal_weight, g.region);
     grow_all(g, patches);
     if (opt.merge) merge_patches(g, opp, opt, patches);
   } else {
-    grow_all(g, patches);
+    grow_all(g, patches, /*plain=*/true);
   }
   // Final pass: regrow every patch's face set from its lowest face, so that
   // the recorded encoder positions come from one growth of the final sets

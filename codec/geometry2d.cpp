@@ -77,11 +77,23 @@ double orient2d(Vec2 a, Vec2 b, Vec2 c) {
 }
 
 int orient2d_sign(Vec2 a, Vec2 b, Vec2 c) {
-  // Floating filter (Shewchuk's ccwerrboundA) before the exact fallback.
+  // Shewchuk's orient2d filter: the signs of the two rounded products are
+  // exact (a rounded difference keeps its sign), so when they differ, or one
+  // is zero, the sign of their difference is exact too. Only otherwise is the
+  // error bound (ccwerrboundA) needed, and past it the exact expansion.
   const double detleft = (a.x - c.x) * (b.y - c.y);
   const double detright = (a.y - c.y) * (b.x - c.x);
   const double det = detleft - detright;
-  const double detsum = std::fabs(detleft) + std::fabs(detright);
+  double detsum;
+  if (detleft > 0) {
+    if (detright <= 0) return det > 0 ? 1 : (det < 0 ? -1 : 0);
+    detsum = detleft + detright;
+  } else if (detleft < 0) {
+    if (detright >= 0) return det > 0 ? 1 : (det < 0 ? -1 : 0);
+    detsum = -detleft - detright;
+  } else {
+    return detright < 0 ? 1 : (detright > 0 ? -1 : 0);
+  }
   const double errbound = 3.3306690738754716e-16 * detsum;  // (3 + 16 eps) eps
   if (det > errbound) return 1;
   if (-det > errbound) return -1;

@@ -34,6 +34,11 @@ enum class SizeRounding : uint8_t {
   power_of_two,   // width and height rounded up to powers of two
 };
 
+enum class PackMethod : uint8_t {
+  bitmap,   // bottom-left fill of true shapes on a cell bitmap (holes get filled)
+  skyline,  // drop true shapes onto a skyline (faster, leaves holes under overhangs)
+};
+
 struct PackOptions {
   double texel_scale = 0;           // texels per model unit; must be > 0 (see auto_texel_scale)
   uint32_t gutter = 4;              // min empty texels between two patches (half of it at page edges)
@@ -41,6 +46,7 @@ struct PackOptions {
   uint32_t max_pages = 1;           // > 1: spill into more max-size pages before shrinking the scale
   SizeRounding rounding = SizeRounding::multiple_of_4;
   bool rotate_90 = true;            // also try 90, 180, 270 degree turns of each patch
+  PackMethod method = PackMethod::bitmap;
   uint32_t cell = 0;                // packing raster cell in texels; 0 = auto (1..4 by atlas size)
   double shrink_factor = 0.92;      // texel scale factor per retry when a page would be too large
   uint32_t max_retries = 60;        // give up (status too_large) after this many shrinks

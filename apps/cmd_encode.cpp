@@ -1,0 +1,73 @@
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "apps/commands.h"
+#include "apps/report_format.h"
+#include "codec/encoder.h"
+#include "format/gltf_io.h"
+
+namespace gltfwarp::cli {
+
+Runner add_encode(CLI::App& app) {
+  struct Args {
+    std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep";
+    EncodeOptions opt;
+    bool quiet = false, explicit_uvs = false;
+  };
+  auto a = std::make_shared<Args>();
+  app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
+  app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container")->required();
+  app.add_option("--max-distortion", a->opt.tau, "Distortion bound tau of every triangle (>= 1)")
+      ->default_val(1.3)->check(CLI::Range(1.0001, 100.0));
+  app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
+      ->default_val("compact")->check(CLI::IsMember({"compact", "greedy"}));
+  app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
+      ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
+  app.add_option("--texel-density", a->texel_density, "auto, or texels per model unit")->default_val("auto");
+  app.add_option("--max-atlas-size", a->opt.max_atlas_size, "Largest atlas side in texels")
+      ->default_val(4096)->check(CLI::Range(16, 65536));
+  app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->default_val(4)->check(CLI::Range(0, 64));
+  app.add_flag("--power-of-two", a->opt.power_of_two, "Atlas sides as powers of two (default: multiples of 4)");
+  app.add_option("--image-format", a->image_format, "keep, png or jpeg")->default_val("keep")
+      ->check(CLI::IsMember({"keep", "png", "jpeg"}));
+  app.add_option("--jpeg-quality", a->opt.jpeg_quality, "JPEG quality of warped images; 0 matches the source's")->default_val(0)->check(CLI::Range(0, 100));
+  app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
+  app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")->default_val(14)->check(CLI::Range(1, 30));
+  app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")->default_val(10)->check(CLI::Range(1, 30));
+  app.add_option("--color-bits", a->opt.draco.color_bits, "Draco colour quantization")->default_val(8)->check(CLI::Range(1, 30));
+  app.add_option("--texcoord-bits", a->opt.draco.texcoord_bits, "Draco texcoord quantization (other sets)")->default_val(12)->check(CLI::Range(1, 30));
+  app.add_option("--generic-bits", a->opt.draco.generic_bits, "Draco generic attribute quantization")->default_val(12)->check(CLI::Range(1, 30));
+  app.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
+  return [a]() {
+    EncodeOptions opt = a->opt;
+    opt.raw_geometry = a->geometry == "raw";
+    opt.greedy_partition = a->partition == "greedy";
+    opt.implicit_uvs = !a->explicit_uvs;
+    opt.image_format = a->image_format;
+    if (a->texel_density != "auto") {
+      try {
+        opt.texel_density = std::stod(a->texel_density);
+      } catch (...) {
+        return fail("--texel-density takes 'auto' or a positive number, not '" + a->texel_density + "'", 2);
+      }
+      if (!(opt.texel_density > 0)) return fail("--texel-density must be positive", 2);
+    }
+    opt.progress = progress;
+    const auto t0 = std::chrono::steady_clock::now();
+    tinygltf::Model model;
+    GltfReadResult rr = read_gltf(a->in, model);
+    if (!rr.ok) return fail(rr.error);
+    EncodeReport report;
+    std::string err = encode_model(model, opt, report);
+    progress_done();
+    if (!err.empty()) return fail(a->in + ": " + err);
+    err = write_gltf(model, a->out);
+    if (!err.empty()) return fail(err);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (!a->quiet) print_encode_report(report, a->in, a->out, secs);
+    return 0;
+  };
+}
+
+}  // namespace gltfwarp::cli

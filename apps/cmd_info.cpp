@@ -1,0 +1,149 @@
+#include <cstdio>
+
+#include <nlohmann/json.hpp>
+
+#include "apps/commands.h"
+#include "codec/embed.h"
+#include "codec/embedding_mesh.h"
+#include "codec/layout.h"
+#include "format/decode_uvs.h"
+#include "format/extension.h"
+#include "format/gltf_io.h"
+#include "format/gltf_primitive.h"
+#include "format/uvmap_codec.h"
+
+namespace gltfwarp::cli {
+namespace {
+
+size_t view_bytes(const tinygltf::Model& m, const tinygltf::Value& ext) {
+  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber()) return 0;
+  const int v = ext.Get("bufferView").GetNumberAsInt();
+  return v >= 0 && static_cast<size_t>(v) < m.bufferViews.size() ? m.bufferViews[v].byteLength : 0;
+}
+
+std::span<const uint8_t> view_span(const tinygltf::Model& m, const tinygltf::Value& ext) {
+  const int v = ext.Get("bufferView").GetNumberAsInt();
+  const auto& bv = m.bufferViews[v];
+  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= m.buffers.size() ||
+      bv.byteOffset + bv.byteLength > m.buffers[bv.buffer].data.size())
+    return {};
+  return {m.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
+}
+
+}  // namespace
+
+Runner add_info(CLI::App& app) {
+  struct Args {
+    std::string in;
+    bool json = false;
+  };
+  auto a = std::make_shared<Args>();
+  app.add_option("file", a->in, "A .gltf or .glb (encoded or not)")->required()->check(CLI::ExistingFile);
+  app.add_flag("--json", a->json, "Print JSON instead of a table");
+  return [a]() {
+    tinygltf::Model model;
+    GltfReadResult rr = read_gltf(a->in, model);
+    if (!rr.ok) return fail(rr.error);
+    nlohmann::json out;
+    out["file"] = a->in;
+    out["primitives"] = nlohmann::json::array();
+    for (size_t mi = 0; mi < model.meshes.size(); ++mi)
+      for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+        const auto& prim = model.meshes[mi].primitives[pi];
+        nlohmann::json p;
+        p["mesh"] = mi;
+        p["primitive"] = pi;
+        const bool draco = prim.extensions.count(kDracoExtension) > 0;
+        const bool ours = prim.extensions.count(ext::kName) > 0;
+        p["geometry"] = draco ? "draco" : "plain";
+        p["implicit_uv"] = ours;
+        if (!is_triangle_mode(prim.mode)) {
+          p["mode"] = prim.mode;
+          out["primitives"].push_back(p);
+          continue;
+        }
+        PrimitiveGeometry geom;
+        std::string err = read_primitive(model, prim, geom);
+        if (!err.empty()) return fail(a->in + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " + err);
+        const size_t tris = geom.triangles.size() / 3, verts = geom.vertex_count();
+        p["triangles"] = tris;
+        p["vertices"] = verts;
+        if (draco) {
+          p["geometry_bytes"] = view_bytes(model, prim.extensions.at(kDracoExtension));
+        } else {
+          size_t b = 0;
+          for (const auto& at : geom.attributes) b += at.data.size();
+          p["geometry_bytes"] = b;
+        }
+        if (ours) {
+          const auto bytes = view_span(model, prim.extensions.at(ext::kName));
+          UvStreamInfo si;
+          UvStatus st = read_uvmap_info(bytes, si);
+          if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
+          p["bitstream_bytes"] = si.total_bytes;
+          p["bitstream_sections"] = {{"header", si.header_bytes}, {"partition", si.partition_bytes},
+                                     {"placements", si.placement_bytes}};
+          p["patches"] = si.patch_count;
+          p["atlas"] = {si.atlas_width, si.atlas_height};
+          p["tau"] = si.tau;
+          p["bits_per_vertex"] = verts ? 8.0 * si.total_bytes / double(verts) : 0.0;
+          p["bits_per_triangle"] = tris ? 8.0 * si.total_bytes / double(tris) : 0.0;
+          // Quality of the map, measured on the replay the decoder runs.
+          std::vector<uint32_t> p2v;
+          const TriMesh mesh = embedding_mesh(*geom.find("POSITION"), geom.triangles, p2v);
+          std::vector<float> uv;
+          UvMap map;
+          st = decode_uvs(mesh, bytes, uv, &map);
+          if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
+          std::vector<double> xy;
+          layout_patches(mesh, map.patch_of_face, map.patch_count, xy);
+          const EmbedReport er = measure_embedding(mesh, map.patch_of_face, map.patch_count, xy, si.tau);
+          p["max_distortion"] = er.max_distortion;
+          p["mean_distortion"] = er.mean_distortion;
+          p["flipped"] = er.flipped;
+          p["zero_area"] = er.zero_area;
+          p["seam_edges"] = er.seam_edges;
+          p["seam_length"] = er.seam_length;
+          p["rect_fill"] = er.fill;
+          p["holes"] = er.holes;
+        }
+        out["primitives"].push_back(p);
+      }
+    size_t image_bytes = 0;
+    for (const auto& img : model.images) {
+      const size_t b = img.bufferView >= 0 && static_cast<size_t>(img.bufferView) < model.bufferViews.size()
+                           ? model.bufferViews[img.bufferView].byteLength
+                           : img.image.size();
+      image_bytes += b;
+      out["images"].push_back({{"name", img.name}, {"mime", img.mimeType}, {"bytes", b}});
+    }
+    out["image_bytes"] = image_bytes;
+    if (a->json) {
+      std::printf("%s\n", out.dump(2).c_str());
+      return 0;
+    }
+    std::printf("%s\n", a->in.c_str());
+    std::printf("%-8s %-14s %8s %8s %9s %9s %7s %7s %6s %6s %6s\n", "prim", "geometry", "tris", "verts", "geom B",
+                "uvmap B", "bits/v", "patches", "maxD", "seams", "fill");
+    for (const auto& p : out["primitives"]) {
+      const std::string id = std::to_string(p["mesh"].get<size_t>()) + "/" + std::to_string(p["primitive"].get<size_t>());
+      const std::string kind = p["geometry"].get<std::string>() + (p["implicit_uv"].get<bool>() ? "+implicit" : "");
+      if (!p.contains("triangles")) {
+        std::printf("%-8s %-14s (not triangles)\n", id.c_str(), kind.c_str());
+        continue;
+      }
+      std::printf("%-8s %-14s %8zu %8zu %9zu", id.c_str(), kind.c_str(), p["triangles"].get<size_t>(),
+                  p["vertices"].get<size_t>(), p["geometry_bytes"].get<size_t>());
+      if (p.contains("bitstream_bytes"))
+        std::printf(" %9zu %7.2f %7u %6.3f %6u %6.2f\n", p["bitstream_bytes"].get<size_t>(),
+                    p["bits_per_vertex"].get<double>(), p["patches"].get<unsigned>(), p["max_distortion"].get<double>(),
+                    p["seam_edges"].get<unsigned>(), p["rect_fill"].get<double>());
+      else
+        std::printf("\n");
+    }
+    std::printf("images: %zu, %zu bytes\n", model.images.size(), image_bytes);
+    return 0;
+  };
+}
+
+}  // namespace gltfwarp::cli

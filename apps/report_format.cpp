@@ -1,0 +1,31 @@
+#include "apps/report_format.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace gltfwarp::cli {
+
+void print_encode_report(const EncodeReport& r, const std::string& in, const std::string& out, double seconds) {
+  std::error_code ec;
+  const auto in_size = std::filesystem::file_size(in, ec);
+  const auto out_size = std::filesystem::file_size(out, ec);
+  std::printf("%-10s %-28s %8s %8s %9s %9s %7s %6s %6s %6s\n", "primitive", "handling", "tris", "verts", "geom B",
+              "uvmap B", "patches", "maxD", "seams", "fill");
+  for (const auto& p : r.primitives) {
+    char id[32];
+    std::snprintf(id, sizeof id, "%d/%d", p.mesh, p.primitive);
+    std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f\n", id, p.handling.c_str(), p.triangles,
+                p.vertices, p.geometry_bytes, p.bitstream_bytes, p.patches, p.max_distortion, p.seam_edges,
+                p.rect_fill);
+  }
+  for (size_t i = 0; i < r.atlases.size(); ++i) {
+    const auto& a = r.atlases[i];
+    std::printf("atlas %zu: %ux%u, fill %.1f%%, overlapping texels %zu, images %zu -> %zu bytes\n", i, a.width,
+                a.height, 100.0 * a.fill, a.overlapping_texels, a.source_image_bytes, a.atlas_image_bytes);
+  }
+  for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+  std::printf("encoded %s (%llu bytes) -> %s (%llu bytes) in %.2f s\n", in.c_str(),
+              static_cast<unsigned long long>(in_size), out.c_str(), static_cast<unsigned long long>(out_size), seconds);
+}
+
+}  // namespace gltfwarp::cli

@@ -1,0 +1,227 @@
+// The per-atlas-group steps of the encoder: texel density, packing, the
+// bitstream, UVs from decode_uvs (the decoder's own function), then the
+// warp of every TEXCOORD_0 texture and the material retargeting.
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <tuple>
+
+#include "codec/image_io.h"
+#include "codec/implicit_uv_encoder.h"
+#include "codec/pack.h"
+#include "codec/tangents.h"
+#include "codec/texel_density.h"
+#include "codec/warp.h"
+#include "format/decode_uvs.h"
+#include "format/extension.h"
+#include "format/gltf_materials.h"
+#include "format/uvmap_codec.h"
+
+namespace gltfwarp {
+namespace {
+
+// Keep each image's format unless asked otherwise; formats we do not write
+// (WebP, ...) become PNG.
+std::string output_mime(const std::string& source_mime, const std::string& wanted) {
+  if (wanted == "png") return "image/png";
+  if (wanted == "jpeg") return "image/jpeg";
+  return source_mime == "image/jpeg" ? "image/jpeg" : "image/png";
+}
+
+struct WarpOutput {
+  std::vector<uint8_t> bytes;
+  std::string mime;
+};
+
+// Tangent frames of one primitive for re-expressing a normal map: the
+// frame of the source UVs and the frame of the new UVs, per corner.
+struct TangentFrames {
+  std::vector<float> normals, old_tangents, new_tangents;
+};
+
+TangentFrames corner_frames(const ImplicitPrimitive& ip) {
+  TangentFrames f;
+  if (const VertexAttribute* n = ip.decoded.find("NORMAL"); n && n->components == 3) {
+    f.normals.resize(ip.decoded.triangles.size() * 3);
+    for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
+      for (int i = 0; i < 3; ++i) f.normals[3 * c + i] = n->get(ip.decoded.triangles[c], i);
+  } else {
+    f.normals = flat_corner_normals(ip.tri);
+  }
+  f.old_tangents = corner_tangents(ip.tri, f.normals, ip.source_uv);
+  f.new_tangents = corner_tangents(ip.tri, f.normals, ip.corner_uv);
+  return f;
+}
+
+int add_clamp_sampler(tinygltf::Model& model) {
+  tinygltf::Sampler s;
+  s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  s.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  model.samplers.push_back(s);
+  return static_cast<int>(model.samplers.size() - 1);
+}
+
+}  // namespace
+
+std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                EncodeReport& report) {
+  int clamp_sampler = -1;
+  for (size_t gi = 0; gi < plan.groups.size(); ++gi) {
+    auto& group = plan.groups[gi];
+    if (group.members.empty()) continue;
+    if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
+
+    // Texel density: keep the source's detail (largest image each primitive samples).
+    std::vector<DensityPrimitive> dens;
+    for (size_t m : group.members) {
+      const auto& ip = plan.prims[m];
+      const auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+      uint32_t w = 0, h = 0;
+      for (const auto& s : texture_slots(model, prim.material)) {
+        if (s.tex_coord != 0) continue;
+        const auto& img = model.images[texture_image(model, s.texture)];
+        int iw = 0, ih = 0;
+        std::string err;
+        if (image_size(img.image, iw, ih, err) && uint64_t(iw) * ih > uint64_t(w) * h) {
+          w = static_cast<uint32_t>(iw);
+          h = static_cast<uint32_t>(ih);
+        }
+      }
+      dens.push_back({&ip.tri, ip.source_uv, w, h});
+    }
+    double scale = options.texel_density;
+    if (!(scale > 0)) scale = auto_texel_scale(dens).texel_scale;
+
+    std::vector<PackPrimitive> pp;
+    for (size_t m : group.members) {
+      const auto& ip = plan.prims[m];
+      pp.push_back({&ip.tri, ip.patch_of_face, ip.patch_count, ip.corner_xy});
+    }
+    PackOptions po;
+    po.texel_scale = scale;
+    po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+    po.max_atlas_size = options.max_atlas_size;
+    po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
+    PackResult packed;
+    const PackStatus ps = pack_atlas(pp, po, packed);
+    if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
+
+    AtlasReport ar;
+    ar.width = packed.report.atlas_width;
+    ar.height = packed.report.atlas_height;
+    ar.fill = packed.report.fill;
+    ar.overlapping_texels = packed.report.overlap_texels;
+
+    // Bitstreams, and the UVs exactly as the decoder will rebuild them.
+    for (size_t k = 0; k < group.members.size(); ++k) {
+      auto& ip = plan.prims[group.members[k]];
+      UvMap map = packed.maps[k];
+      map.tau = static_cast<float>(options.tau);
+      std::vector<uint8_t> bytes;
+      UvStatus st = write_uvmap(map, ip.tri, bytes);
+      if (st != UvStatus::ok) return std::string("cannot write the UV bitstream: ") + to_string(st);
+      st = decode_uvs(ip.tri, bytes, ip.corner_uv);
+      if (st != UvStatus::ok) return std::string("the UV bitstream does not decode: ") + to_string(st);
+      auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+      tinygltf::Value::Object obj;
+      obj[ext::kBufferView] = tinygltf::Value(add_buffer_view(model, bytes));
+      obj[ext::kTexCoord] = tinygltf::Value(0);
+      obj[ext::kAtlasWidth] = tinygltf::Value(static_cast<int>(map.atlas_width));
+      obj[ext::kAtlasHeight] = tinygltf::Value(static_cast<int>(map.atlas_height));
+      if (ip.had_tangents) obj["tangents"] = tinygltf::Value(true);
+      prim.extensions[ext::kName] = tinygltf::Value(obj);
+      declare_extension(model, ext::kName, true);
+      auto& pr = report.primitives[ip.report_index];
+      pr.bitstream_bytes = bytes.size();
+      pr.atlas = static_cast<int>(report.atlases.size());
+    }
+
+    // Warp every distinct (slot source, sampler, transform, colour space) once.
+    using JobKey = std::tuple<int, int, std::array<double, 6>, int, bool>;
+    std::map<JobKey, int> made;  // -> new texture
+    // Slots as the source had them: retargeting below must not change what
+    // later jobs see.
+    std::map<int, std::vector<TextureSlot>> source_slots;
+    for (int mat : group.materials) source_slots[mat] = texture_slots(model, mat);
+    for (int mat : group.materials) {
+      for (const auto& slot : source_slots[mat]) {
+        if (slot.tex_coord != 0) continue;
+        const int image = texture_image(model, slot.texture);
+        const int sampler = model.textures[slot.texture].sampler;
+        JobKey key{image, sampler, slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
+        auto it = made.find(key);
+        if (it == made.end()) {
+          OIIO::ImageBuf source;
+          std::string err;
+          if (!decode_image(model.images[image].image, source, err)) return "image " + std::to_string(image) + ": " + err;
+          WarpOptions wo;
+          wo.encoding = slot.normal_map ? SlotEncoding::normal
+                                        : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
+          if (sampler >= 0 && static_cast<size_t>(sampler) < model.samplers.size()) {
+            wo.wrap_s = wrap_from_gltf(model.samplers[sampler].wrapS);
+            wo.wrap_t = wrap_from_gltf(model.samplers[sampler].wrapT);
+          }
+          for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
+          wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+          std::vector<WarpPrimitive> wp;
+          std::vector<TangentFrames> frames;
+          frames.reserve(group.members.size());
+          for (size_t m : group.members) {
+            const auto& ip = plan.prims[m];
+            // Only the primitives whose material samples this image paint it.
+            const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
+            const auto& slots = source_slots[pm];
+            if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
+                  return s.tex_coord == 0 && texture_image(model, s.texture) == image;
+                }))
+              continue;
+            WarpPrimitive w;
+            w.source_uv = ip.source_uv;
+            w.atlas_uv = ip.corner_uv;
+            if (slot.normal_map) {
+              frames.push_back(corner_frames(ip));
+              w.normals = frames.back().normals;
+              w.old_tangents = frames.back().old_tangents;
+              w.new_tangents = frames.back().new_tangents;
+            }
+            wp.push_back(w);
+          }
+          OIIO::ImageBuf atlas;
+          WarpReport wr;
+          const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
+          if (ws != WarpStatus::ok)
+            return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
+          const std::string mime = output_mime(model.images[image].mimeType, options.image_format);
+          std::vector<uint8_t> bytes;
+          int quality = options.jpeg_quality;
+          if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
+          if (quality <= 0) quality = 90;
+          if (!encode_image(atlas, mime, quality, bytes, err)) return "image " + std::to_string(image) + ": " + err;
+          WarpOutput wout{std::move(bytes), mime};
+          ar.source_image_bytes += model.images[image].image.size();
+          ar.atlas_image_bytes += wout.bytes.size();
+          tinygltf::Image img;
+          img.name = model.images[image].name.empty() ? "atlas" : model.images[image].name + "_atlas";
+          img.mimeType = wout.mime;
+          img.image = std::move(wout.bytes);
+          img.as_is = true;
+          model.images.push_back(std::move(img));
+          if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
+          tinygltf::Texture tex;
+          tex.source = static_cast<int>(model.images.size() - 1);
+          tex.sampler = clamp_sampler;
+          model.textures.push_back(tex);
+          it = made.emplace(key, static_cast<int>(model.textures.size() - 1)).first;
+        }
+        retarget_slot(model, slot, it->second);
+      }
+    }
+    report.atlases.push_back(ar);
+  }
+  if (options.progress) options.progress("atlas", 1.0);
+  return {};
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,76 @@
+// Encoder pipeline (DESIGN.md, "Data flow"): every triangle primitive goes
+// through Draco; primitives whose materials sample textures through
+// TEXCOORD_0 lose TEXCOORD_0 (and TANGENT) and get the implicit UV map plus
+// warped atlas images instead (implicit_uv_encoder.cpp).
+#include "codec/encoder.h"
+
+#include "codec/implicit_uv_encoder.h"
+#include "format/gltf_io.h"
+#include "format/gltf_primitive.h"
+
+namespace gltfwarp {
+
+std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, EncodeReport& report) {
+  std::vector<int> replaced;
+  ImplicitPlan plan;
+  if (options.implicit_uvs) {
+    std::string err = plan_implicit_uvs(model, plan, report);
+    if (!err.empty()) return err;
+  }
+  size_t done = 0, total = 0;
+  for (const auto& mesh : model.meshes) total += mesh.primitives.size();
+  for (size_t mi = 0; mi < model.meshes.size(); ++mi) {
+    for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      if (options.progress) options.progress("geometry", total ? double(done++) / double(total) : 1.0);
+      auto& prim = model.meshes[mi].primitives[pi];
+      PrimitiveReport pr;
+      pr.mesh = static_cast<int>(mi);
+      pr.primitive = static_cast<int>(pi);
+      const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi);
+      if (!is_triangle_mode(prim.mode)) {
+        pr.handling = "pass: not triangles (mode " + std::to_string(prim.mode) + ")";
+        report.primitives.push_back(pr);
+        continue;
+      }
+      if (!prim.targets.empty()) {
+        // Draco cannot carry morph targets, and the targets' accessors must
+        // keep matching the base vertices one to one.
+        pr.handling = "raw: morph targets";
+        report.notes.push_back(where + " kept raw: Draco cannot carry morph targets");
+        report.primitives.push_back(pr);
+        continue;
+      }
+      PrimitiveGeometry geom;
+      std::string err = read_primitive(model, prim, geom);
+      if (!err.empty()) return where + ": " + err;
+      pr.triangles = geom.triangles.size() / 3;
+      pr.vertices = geom.vertex_count();
+
+      const bool implicit = plan.is_implicit(pr.mesh, pr.primitive);
+      if (implicit) {
+        err = prepare_implicit_primitive(model, prim, geom, plan, options, replaced, pr);
+        if (!err.empty()) return where + ": " + err;
+        plan.prims.back().report_index = report.primitives.size();
+      } else if (options.raw_geometry) {
+        write_primitive_plain(model, prim, geom, replaced);
+        pr.handling = "raw";
+        for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
+        pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+      } else {
+        PrimitiveGeometry decoded;
+        err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);
+        if (!err.empty()) return where + ": " + err;
+        pr.handling = "draco";
+      }
+      report.primitives.push_back(pr);
+    }
+  }
+  if (options.implicit_uvs) {
+    std::string err = finish_implicit_uvs(model, plan, options, report);
+    if (!err.empty()) return err;
+  }
+  compact_buffers(model, replaced);
+  return {};
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,63 @@
+// The encoder: a glTF scene in, the same scene out with Draco geometry and,
+// for every primitive whose material samples textures through TEXCOORD_0,
+// the implicit UV map (our extension) plus warped atlas textures.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "codec/draco_geometry.h"
+
+namespace gltfwarp {
+
+struct EncodeOptions {
+  DracoOptions draco;             // quantization bits (defaults of common tools)
+  bool raw_geometry = false;      // --geometry raw: float accessors, no Draco
+  bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
+  double tau = 1.3;               // distortion bound of every triangle
+  bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
+  double texel_density = 0;       // texels per model unit; 0 = measured from the source
+  uint32_t max_atlas_size = 4096; // largest atlas side in texels
+  int gutter = 4;                 // texels of padding around every patch
+  bool power_of_two = false;      // atlas sides as powers of two (else multiples of 4)
+  std::string image_format = "keep";  // keep | png | jpeg
+  int jpeg_quality = 0;           // JPEG output quality; 0 = match the source JPEG (90 for others)
+  std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
+};
+
+struct PrimitiveReport {
+  int mesh = -1, primitive = -1;
+  std::string handling;       // "implicit-uv", "draco", "raw", "raw: morph targets", "pass: points", ...
+  size_t triangles = 0, vertices = 0;
+  size_t geometry_bytes = 0;  // Draco bytes (or raw accessor bytes)
+  size_t bitstream_bytes = 0; // our UV bitstream
+  uint32_t patches = 0;
+  double max_distortion = 0, mean_distortion = 0;
+  size_t seam_edges = 0;
+  double rect_fill = 0;       // area-weighted patch area / min-area rectangle
+  size_t unmatched_faces = 0; // decoded faces not traced back to a source face
+  int atlas = -1;             // index into EncodeReport::atlases
+};
+
+struct AtlasReport {
+  std::vector<int> primitives_meshes;  // informative
+  uint32_t width = 0, height = 0;
+  double fill = 0;              // covered texels / atlas texels
+  size_t overlapping_texels = 0;
+  size_t source_image_bytes = 0, atlas_image_bytes = 0;
+};
+
+struct EncodeReport {
+  std::vector<PrimitiveReport> primitives;
+  std::vector<AtlasReport> atlases;
+  std::vector<std::string> notes;  // one line each: what was passed through and why
+};
+
+// Encodes `model` in place. Returns an empty string or a one-line error; on
+// error the model may be half-written and must not be saved.
+std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, EncodeReport& report);
+
+}  // namespace gltfwarp

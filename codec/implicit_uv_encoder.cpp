@@ -1,0 +1,212 @@
+#include "codec/implicit_uv_encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <set>
+
+#include "codec/corner_match.h"
+#include "codec/embed.h"
+#include "codec/embedding_mesh.h"
+#include "codec/image_io.h"
+#include "codec/pack.h"
+#include "codec/texel_density.h"
+#include "codec/warp.h"
+#include "format/decode_uvs.h"
+#include "format/extension.h"
+#include "format/gltf_materials.h"
+#include "format/uvmap_codec.h"
+
+namespace gltfwarp {
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); }
+  void join(int a, int b) { parent[find(a)] = find(b); }
+};
+
+// TEXCOORD_0 slots of a material whose texture and image exist.
+std::vector<TextureSlot> uv0_slots(const tinygltf::Model& model, int material) {
+  std::vector<TextureSlot> out;
+  for (const auto& s : texture_slots(model, material))
+    if (s.tex_coord == 0 && texture_image(model, s.texture) >= 0) out.push_back(s);
+  return out;
+}
+
+// Largest distance between a source position and its Draco-decoded copy.
+double quantization_tolerance(const VertexAttribute& pos, int bits) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (size_t e = 0; e < pos.count(); ++e)
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::min<double>(lo[i], pos.get(e, i));
+      hi[i] = std::max<double>(hi[i], pos.get(e, i));
+    }
+  double range = 0;
+  for (int i = 0; i < 3; ++i) range = std::max(range, hi[i] - lo[i]);
+  const double step = range / double((1u << std::clamp(bits, 1, 30)) - 1);
+  return step * 1.01 + 1e-7 * std::max(1.0, range);
+}
+
+std::vector<float> positions_of(const VertexAttribute& a) {
+  std::vector<float> out(a.count() * 3);
+  for (size_t e = 0; e < a.count(); ++e)
+    for (int i = 0; i < 3; ++i) out[3 * e + i] = a.get(e, i);
+  return out;
+}
+
+}  // namespace
+
+std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report) {
+  // Images we can decode (others make their primitives keep explicit UVs).
+  std::vector<int> decodable(model.images.size(), -1);
+  auto image_ok = [&](int img) {
+    if (decodable[img] < 0) {
+      std::string err;
+      int w = 0, h = 0;
+      decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
+      if (!decodable[img])
+        report.notes.push_back("image " + std::to_string(img) + " kept as is, explicit UVs kept for its users: " + err);
+    }
+    return decodable[img] == 1;
+  };
+
+  struct Candidate {
+    int mesh, prim;
+    std::vector<int> images;
+  };
+  std::vector<Candidate> cands;
+  for (size_t mi = 0; mi < model.meshes.size(); ++mi)
+    for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      const auto& prim = model.meshes[mi].primitives[pi];
+      if (!is_triangle_mode(prim.mode) || !prim.targets.empty() || !prim.attributes.count("TEXCOORD_0")) continue;
+      if (!prim.attributes.count("POSITION")) continue;
+      const auto slots = uv0_slots(model, prim.material);
+      if (slots.empty()) continue;
+      Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
+      bool ok = true;
+      for (const auto& s : slots) {
+        const int img = texture_image(model, s.texture);
+        if (!image_ok(img)) ok = false;
+        c.images.push_back(img);
+      }
+      if (ok) cands.push_back(std::move(c));
+    }
+  if (cands.empty()) return {};
+
+  // Primitives that share an image share an atlas.
+  UnionFind uf(cands.size());
+  std::map<int, size_t> first_user;
+  for (size_t i = 0; i < cands.size(); ++i)
+    for (int img : cands[i].images) {
+      auto [it, inserted] = first_user.emplace(img, i);
+      if (!inserted) uf.join(static_cast<int>(i), static_cast<int>(it->second));
+    }
+  std::map<int, int> group_index;
+  for (size_t i = 0; i < cands.size(); ++i) {
+    const int root = uf.find(static_cast<int>(i));
+    auto [it, inserted] = group_index.emplace(root, static_cast<int>(plan.groups.size()));
+    if (inserted) plan.groups.emplace_back();
+    plan.group_of[{cands[i].mesh, cands[i].prim}] = it->second;
+  }
+
+  // A material used by an implicit primitive and by one that keeps explicit
+  // UVs is cloned, so the explicit one keeps the original textures.
+  std::map<int, int> clone_of;
+  for (size_t mi = 0; mi < model.meshes.size(); ++mi)
+    for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      const auto& prim = model.meshes[mi].primitives[pi];
+      if (prim.material < 0 || plan.is_implicit(static_cast<int>(mi), static_cast<int>(pi))) continue;
+      clone_of.emplace(prim.material, -1);
+    }
+  for (auto& c : cands) {
+    auto& prim = model.meshes[c.mesh].primitives[c.prim];
+    auto it = clone_of.find(prim.material);
+    if (it != clone_of.end()) {
+      if (it->second < 0) {
+        model.materials.push_back(model.materials[prim.material]);
+        it->second = static_cast<int>(model.materials.size() - 1);
+      }
+      prim.material = it->second;
+    }
+    auto& g = plan.groups[plan.group_of[{c.mesh, c.prim}]];
+    if (std::find(g.materials.begin(), g.materials.end(), prim.material) == g.materials.end())
+      g.materials.push_back(prim.material);
+  }
+  return {};
+}
+
+std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
+                                       ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+                                       PrimitiveReport& pr) {
+  ImplicitPrimitive ip;
+  ip.mesh = pr.mesh;
+  ip.primitive = pr.primitive;
+  ip.had_tangents = geom.find("TANGENT") != nullptr;
+  const VertexAttribute* uv0 = geom.find("TEXCOORD_0");
+  if (!uv0 || uv0->components != 2) return "TEXCOORD_0 is not a VEC2";
+  std::vector<float> source_corner_uv(geom.triangles.size() * 2);
+  for (size_t c = 0; c < geom.triangles.size(); ++c)
+    for (int i = 0; i < 2; ++i) source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
+  geom.erase("TEXCOORD_0");
+  geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
+  weld_vertices(geom.attributes, geom.triangles);
+  const VertexAttribute* src_pos = geom.find("POSITION");
+  if (!src_pos || src_pos->components != 3) return "POSITION is not a VEC3";
+  for (size_t e = 0; e < src_pos->count(); ++e)
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(src_pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+
+  double tolerance = 1e-9;
+  if (options.raw_geometry) {
+    write_primitive_plain(model, prim, geom, replaced);
+    ip.decoded = geom;
+    for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
+    pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+  } else {
+    std::string err = write_primitive_draco(model, prim, geom, options.draco, replaced, ip.decoded, pr.geometry_bytes);
+    if (!err.empty()) return err;
+    tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
+  }
+  // TEXCOORD_0 stays declared, without data, as KHR_draco_mesh_compression
+  // does with the attributes it replaces: validators and loaders expect it.
+  tinygltf::Accessor decl;
+  decl.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  decl.type = TINYGLTF_TYPE_VEC2;
+  decl.count = ip.decoded.vertex_count();
+  model.accessors.push_back(decl);
+  prim.attributes["TEXCOORD_0"] = static_cast<int>(model.accessors.size() - 1);
+
+  std::vector<uint32_t> point_to_vertex;
+  ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
+  const CornerMatch match = match_corners(positions_of(*src_pos), geom.triangles,
+                                          positions_of(*ip.decoded.find("POSITION")), ip.decoded.triangles, tolerance);
+  ip.source_uv.resize(ip.decoded.triangles.size() * 2);
+  for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
+    for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];
+
+  EmbedOptions eo;
+  eo.tau = options.tau;
+  eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
+  Embedding er = embed(ip.tri, eo);
+  if (er.status != LayoutStatus::ok) return std::string("embedding failed: ") + to_string(er.status);
+  ip.patch_of_face = std::move(er.patch_of_face);
+  ip.patch_count = er.patch_count;
+  ip.corner_xy = std::move(er.corner_xy);
+
+  pr.handling = options.raw_geometry ? "implicit-uv (raw geometry)" : "implicit-uv";
+  pr.patches = ip.patch_count;
+  pr.max_distortion = er.report.max_distortion;
+  pr.mean_distortion = er.report.mean_distortion;
+  pr.seam_edges = er.report.seam_edges;
+  pr.rect_fill = er.report.fill;
+  plan.prims.push_back(std::move(ip));
+  plan.groups[plan.group_of.at({pr.mesh, pr.primitive})].members.push_back(plan.prims.size() - 1);
+  // Rare: faces Draco moved beyond the tolerance; their UVs come from corner 0.
+  pr.unmatched_faces = match.unmatched_faces;
+  return {};
+}
+
+
+}  // namespace gltfwarp

@@ -1,0 +1,59 @@
+// The implicit-UV half of the encoder: which primitives lose TEXCOORD_0, how
+// they group into shared atlases, and the per-group steps (embed, pack,
+// bitstream, warp) that replace explicit UVs by our extension.
+#pragma once
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "codec/encoder.h"
+#include "codec/mesh.h"
+#include "format/gltf_primitive.h"
+
+namespace gltfwarp {
+
+struct ImplicitPrimitive {
+  int mesh = -1, primitive = -1;
+  size_t report_index = 0;           // into EncodeReport::primitives
+  PrimitiveGeometry decoded;         // what every decoder sees (Draco output or raw arrays)
+  TriMesh tri;                       // embedding mesh (decoded positions welded exactly)
+  std::vector<float> source_uv;      // TEXCOORD_0 of the source, 2 per corner of `tri`
+  std::vector<uint32_t> patch_of_face;
+  uint32_t patch_count = 0;
+  std::vector<double> corner_xy;     // layout_patches output
+  std::vector<float> corner_uv;      // final UVs (decode_uvs output)
+  bool had_tangents = false;
+};
+
+struct AtlasGroup {
+  std::vector<int> materials;
+  std::vector<size_t> members;       // indices into ImplicitPlan::prims
+};
+
+struct ImplicitPlan {
+  std::map<std::pair<int, int>, int> group_of;  // (mesh, primitive) -> group
+  std::vector<AtlasGroup> groups;
+  std::vector<ImplicitPrimitive> prims;
+  bool is_implicit(int mesh, int primitive) const { return group_of.count({mesh, primitive}) > 0; }
+};
+
+// Chooses the primitives and groups; clones materials that implicit and
+// explicit primitives share, so the explicit ones keep their textures.
+std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report);
+
+// Drops TEXCOORD_0/TANGENT, writes the geometry (Draco or raw), maps the
+// decoded corners to source UVs and partitions the mesh.
+std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
+                                       ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+                                       PrimitiveReport& report);
+
+// Per group: pack, write bitstreams, rebuild UVs with decode_uvs, warp every
+// TEXCOORD_0 texture into the atlas and retarget the materials.
+std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                EncodeReport& report);
+
+}  // namespace gltfwarp

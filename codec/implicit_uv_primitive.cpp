@@ -1,0 +1,111 @@
+#include "codec/implicit_uv_primitive.h"
+
+#include <cstring>
+#include <unordered_map>
+
+#include "codec/embedding_mesh.h"
+#include "codec/tangents.h"
+#include "format/decode_uvs.h"
+
+namespace gltfwarp {
+
+namespace {
+
+std::vector<float> floats_of(const VertexAttribute& a) {
+  std::vector<float> out(a.count() * static_cast<size_t>(a.components));
+  for (size_t e = 0; e < a.count(); ++e)
+    for (int i = 0; i < a.components; ++i) out[e * a.components + i] = a.get(e, i);
+  return out;
+}
+
+// TANGENT (xyz, w) per vertex from the rebuilt UVs, MikkTSpace convention.
+VertexAttribute tangent_attribute(const PrimitiveGeometry& geom) {
+  const std::vector<float> t = vertex_tangents(floats_of(*geom.find("POSITION")), floats_of(*geom.find("NORMAL")),
+                                               floats_of(*geom.find("TEXCOORD_0")), geom.triangles);
+  VertexAttribute a;
+  a.semantic = "TANGENT";
+  a.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.components = 4;
+  a.data.resize(t.size() * 4);
+  std::memcpy(a.data.data(), t.data(), a.data.size());
+  return a;
+}
+
+}  // namespace
+
+void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corner_uv) {
+  const size_t corners = geom.triangles.size();
+  std::unordered_map<uint64_t, uint32_t> first;  // (point, corner-uv class) -> new vertex
+  first.reserve(corners);
+  std::vector<uint32_t> origin;                  // new vertex -> point
+  std::vector<float> uvs;
+  // Key: point id with the uv bits; collisions are resolved by comparing uvs.
+  std::unordered_map<uint32_t, std::vector<uint32_t>> by_point;
+  by_point.reserve(geom.vertex_count());
+  for (size_t c = 0; c < corners; ++c) {
+    const uint32_t p = geom.triangles[c];
+    const float u = corner_uv[2 * c], v = corner_uv[2 * c + 1];
+    auto& list = by_point[p];
+    uint32_t found = UINT32_MAX;
+    for (uint32_t nv : list)
+      if (std::memcmp(&uvs[2 * nv], &u, 4) == 0 && std::memcmp(&uvs[2 * nv + 1], &v, 4) == 0) {
+        found = nv;
+        break;
+      }
+    if (found == UINT32_MAX) {
+      found = static_cast<uint32_t>(origin.size());
+      origin.push_back(p);
+      uvs.push_back(u);
+      uvs.push_back(v);
+      list.push_back(found);
+    }
+    geom.triangles[c] = found;
+  }
+  for (auto& a : geom.attributes) {
+    const size_t es = a.element_size();
+    std::vector<uint8_t> out(origin.size() * es);
+    for (size_t i = 0; i < origin.size(); ++i) std::memcpy(&out[i * es], &a.data[origin[i] * es], es);
+    a.data.swap(out);
+  }
+  geom.erase("TEXCOORD_0");
+  VertexAttribute t;
+  t.semantic = "TEXCOORD_0";
+  t.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  t.components = 2;
+  t.data.resize(uvs.size() * 4);
+  std::memcpy(t.data.data(), uvs.data(), t.data.size());
+  geom.attributes.push_back(std::move(t));
+}
+
+std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& geom) {
+  const auto& ext = prim.extensions.at(ext::kName);
+  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber())
+    return std::string(ext::kName) + " object has no bufferView";
+  const int view = ext.Get("bufferView").GetNumberAsInt();
+  if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
+    return std::string(ext::kName) + " names a missing bufferView";
+  const auto& bv = model.bufferViews[view];
+  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model.buffers.size() ||
+      bv.byteOffset > model.buffers[bv.buffer].data.size() ||
+      bv.byteLength > model.buffers[bv.buffer].data.size() - bv.byteOffset)
+    return std::string(ext::kName) + " bufferView runs past its buffer";
+  const VertexAttribute* pos = geom.find("POSITION");
+  if (!pos || pos->components != 3) return "primitive has no usable POSITION";
+
+  std::vector<uint32_t> point_to_vertex;
+  const TriMesh mesh = embedding_mesh(*pos, geom.triangles, point_to_vertex);
+  std::vector<float> corner_uv;
+  const std::span<const uint8_t> bytes(model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength);
+  const UvStatus st = decode_uvs(mesh, bytes, corner_uv);
+  if (st != UvStatus::ok) return std::string("bad UV bitstream: ") + to_string(st);
+
+  split_by_corner_uv(geom, corner_uv);
+  const bool tangents = ext.Has("tangents") && ext.Get("tangents").IsBool() && ext.Get("tangents").Get<bool>();
+  if (tangents && geom.find("NORMAL")) {
+    geom.erase("TANGENT");
+    geom.attributes.push_back(tangent_attribute(geom));
+  }
+  return {};
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,253 @@
+#include "format/gltf_accessors.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace gltfwarp {
+
+size_t component_size(int ct) {
+  switch (ct) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+int component_count(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT2: return 4;
+    case TINYGLTF_TYPE_MAT3: return 9;
+    case TINYGLTF_TYPE_MAT4: return 16;
+    default: return 0;
+  }
+}
+
+int accessor_type_for(int components) {
+  switch (components) {
+    case 1: return TINYGLTF_TYPE_SCALAR;
+    case 2: return TINYGLTF_TYPE_VEC2;
+    case 3: return TINYGLTF_TYPE_VEC3;
+    case 4: return TINYGLTF_TYPE_VEC4;
+    case 9: return TINYGLTF_TYPE_MAT3;
+    case 16: return TINYGLTF_TYPE_MAT4;
+    default: return TINYGLTF_TYPE_SCALAR;
+  }
+}
+
+size_t VertexAttribute::element_size() const { return component_size(component_type) * static_cast<size_t>(components); }
+
+float VertexAttribute::get(size_t e, int i) const {
+  const size_t cs = component_size(component_type);
+  const uint8_t* p = data.data() + (e * static_cast<size_t>(components) + static_cast<size_t>(i)) * cs;
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float v;
+      std::memcpy(&v, p, 4);
+      return v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0f : p[0];
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      const auto v = static_cast<int8_t>(p[0]);
+      return normalized ? std::max(v / 127.0f, -1.0f) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? v / 65535.0f : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t v;
+      std::memcpy(&v, p, 2);
+      return normalized ? std::max(v / 32767.0f, -1.0f) : v;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t v;
+      std::memcpy(&v, p, 4);
+      return static_cast<float>(v);
+    }
+    case TINYGLTF_COMPONENT_TYPE_INT: {
+      int32_t v;
+      std::memcpy(&v, p, 4);
+      return static_cast<float>(v);
+    }
+    default: return 0.0f;
+  }
+}
+
+namespace {
+
+// Copies `count` elements of `elem` bytes from a bufferView with stride.
+std::string copy_strided(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count,
+                         size_t elem, std::vector<uint8_t>& out, size_t dst_offset = 0,
+                         size_t dst_stride = 0) {
+  if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
+    return "bufferView " + std::to_string(view_index) + " does not exist";
+  const auto& view = model.bufferViews[view_index];
+  if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
+    return "bufferView " + std::to_string(view_index) + " names a missing buffer";
+  const auto& buf = model.buffers[view.buffer].data;
+  const size_t stride = view.byteStride ? view.byteStride : elem;
+  if (stride < elem) return "bufferView " + std::to_string(view_index) + " has a byteStride below the element size";
+  if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset)
+    return "bufferView " + std::to_string(view_index) + " runs past the end of its buffer";
+  if (count == 0) return {};
+  const size_t needed = byte_offset + (count - 1) * stride + elem;
+  if (byte_offset > view.byteLength || needed > view.byteLength || needed < byte_offset)
+    return "accessor runs past the end of bufferView " + std::to_string(view_index);
+  const uint8_t* base = buf.data() + view.byteOffset + byte_offset;
+  if (!dst_stride) dst_stride = elem;
+  for (size_t i = 0; i < count; ++i) std::memcpy(out.data() + dst_offset + i * dst_stride, base + i * stride, elem);
+  return {};
+}
+
+}  // namespace
+
+std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribute& out) {
+  if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
+    return "accessor " + std::to_string(index) + " does not exist";
+  const auto& acc = model.accessors[index];
+  out.component_type = acc.componentType;
+  out.components = component_count(acc.type);
+  out.normalized = acc.normalized;
+  const size_t elem = out.element_size();
+  if (!elem) return "accessor " + std::to_string(index) + " has an unknown type";
+  // 2^28 elements is far beyond any real asset and keeps the product in range.
+  if (acc.count > (size_t{1} << 28)) return "accessor " + std::to_string(index) + " declares too many elements";
+  out.data.assign(acc.count * elem, 0);
+  if (acc.bufferView >= 0) {
+    std::string err = copy_strided(model, acc.bufferView, acc.byteOffset, acc.count, elem, out.data);
+    if (!err.empty()) return err;
+  }
+  if (acc.sparse.isSparse) {
+    const auto& sp = acc.sparse;
+    const size_t n = static_cast<size_t>(std::max(sp.count, 0));
+    const size_t ics = component_size(sp.indices.componentType);
+    if (!ics || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      return "sparse accessor " + std::to_string(index) + " has a bad index type";
+    std::vector<uint8_t> idx(n * ics), vals(n * elem);
+    std::string err = copy_strided(model, sp.indices.bufferView, sp.indices.byteOffset, n, ics, idx);
+    if (err.empty()) err = copy_strided(model, sp.values.bufferView, sp.values.byteOffset, n, elem, vals);
+    if (!err.empty()) return "sparse accessor " + std::to_string(index) + ": " + err;
+    for (size_t i = 0; i < n; ++i) {
+      uint32_t k = 0;
+      if (ics == 1) k = idx[i];
+      if (ics == 2) {
+        uint16_t v;
+        std::memcpy(&v, &idx[i * 2], 2);
+        k = v;
+      }
+      if (ics == 4) std::memcpy(&k, &idx[i * 4], 4);
+      if (k >= acc.count) return "sparse accessor " + std::to_string(index) + " has an index out of range";
+      std::memcpy(out.data.data() + k * elem, vals.data() + i * elem, elem);
+    }
+  }
+  return {};
+}
+
+std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primitive& prim, size_t vertex_count,
+                           std::vector<uint32_t>& tris) {
+  std::vector<uint32_t> idx;
+  if (prim.indices >= 0) {
+    VertexAttribute a;
+    std::string err = read_accessor(model, prim.indices, a);
+    if (!err.empty()) return err;
+    if (a.components != 1 || a.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      return "indices accessor " + std::to_string(prim.indices) + " is not an unsigned integer scalar";
+    idx.resize(a.count());
+    for (size_t i = 0; i < idx.size(); ++i) {
+      const size_t cs = component_size(a.component_type);
+      uint32_t v = 0;
+      if (cs == 1) v = a.data[i];
+      if (cs == 2) {
+        uint16_t s;
+        std::memcpy(&s, &a.data[i * 2], 2);
+        v = s;
+      }
+      if (cs == 4) std::memcpy(&v, &a.data[i * 4], 4);
+      if (v >= vertex_count)
+        return "index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) + " vertices)";
+      idx[i] = v;
+    }
+  } else {
+    idx.resize(vertex_count);
+    for (size_t i = 0; i < vertex_count; ++i) idx[i] = static_cast<uint32_t>(i);
+  }
+  tris.clear();
+  const int mode = prim.mode < 0 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    tris.assign(idx.begin(), idx.begin() + static_cast<std::ptrdiff_t>(idx.size() / 3 * 3));
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    for (size_t i = 2; i < idx.size(); ++i) {
+      // Every other triangle flips so all keep the strip's winding.
+      if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+      else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+    }
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
+    for (size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});
+  } else {
+    return "primitive mode " + std::to_string(mode) + " is not triangles";
+  }
+  return {};
+}
+
+int add_accessor(tinygltf::Model& model, const VertexAttribute& attr, int target) {
+  if (model.buffers.empty()) model.buffers.emplace_back();
+  auto& buf = model.buffers[0].data;
+  while (buf.size() % 4) buf.push_back(0);
+  tinygltf::BufferView view;
+  view.buffer = 0;
+  view.byteOffset = buf.size();
+  view.byteLength = attr.data.size();
+  view.target = target;
+  buf.insert(buf.end(), attr.data.begin(), attr.data.end());
+  model.bufferViews.push_back(view);
+
+  tinygltf::Accessor acc;
+  acc.bufferView = static_cast<int>(model.bufferViews.size() - 1);
+  acc.componentType = attr.component_type;
+  acc.normalized = attr.normalized;
+  acc.type = accessor_type_for(attr.components);
+  acc.count = attr.count();
+  if (attr.semantic == "POSITION" && acc.count) {
+    acc.minValues.assign(3, std::numeric_limits<double>::infinity());
+    acc.maxValues.assign(3, -std::numeric_limits<double>::infinity());
+    for (size_t e = 0; e < acc.count; ++e)
+      for (int i = 0; i < 3; ++i) {
+        acc.minValues[i] = std::min<double>(acc.minValues[i], attr.get(e, i));
+        acc.maxValues[i] = std::max<double>(acc.maxValues[i], attr.get(e, i));
+      }
+  }
+  model.accessors.push_back(acc);
+  return static_cast<int>(model.accessors.size() - 1);
+}
+
+int add_index_accessor(tinygltf::Model& model, const std::vector<uint32_t>& indices, size_t vertex_count) {
+  VertexAttribute a;
+  a.components = 1;
+  if (vertex_count <= 0xFFFF) {
+    a.component_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    a.data.resize(indices.size() * 2);
+    for (size_t i = 0; i < indices.size(); ++i) {
+      const auto v = static_cast<uint16_t>(indices[i]);
+      std::memcpy(&a.data[i * 2], &v, 2);
+    }
+  } else {
+    a.component_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    a.data.resize(indices.size() * 4);
+    std::memcpy(a.data.data(), indices.data(), indices.size() * 4);
+  }
+  return add_accessor(model, a, TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+}
+
+}  // namespace gltfwarp

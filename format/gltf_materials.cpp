@@ -1,0 +1,138 @@
+#include "format/gltf_materials.h"
+
+#include <cmath>
+
+namespace gltfwarp {
+namespace {
+
+constexpr const char* kTransform = "KHR_texture_transform";
+
+void read_transform(const tinygltf::ExtensionMap& exts, TextureSlot& s) {
+  auto it = exts.find(kTransform);
+  if (it == exts.end() || !it->second.IsObject()) return;
+  const auto& t = it->second;
+  double ox = 0, oy = 0, rot = 0, sx = 1, sy = 1;
+  auto num = [](const tinygltf::Value& v, double def) { return v.IsNumber() ? v.GetNumberAsDouble() : def; };
+  if (t.Has("offset") && t.Get("offset").IsArray() && t.Get("offset").ArrayLen() == 2) {
+    ox = num(t.Get("offset").Get(0), 0);
+    oy = num(t.Get("offset").Get(1), 0);
+  }
+  if (t.Has("rotation")) rot = num(t.Get("rotation"), 0);
+  if (t.Has("scale") && t.Get("scale").IsArray() && t.Get("scale").ArrayLen() == 2) {
+    sx = num(t.Get("scale").Get(0), 1);
+    sy = num(t.Get("scale").Get(1), 1);
+  }
+  if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) s.tex_coord = t.Get("texCoord").GetNumberAsInt();
+  const double c = std::cos(rot), si = std::sin(rot);
+  // Translation * Rotation * Scale, as the extension's README defines it.
+  s.transform = {c * sx, si * sy, ox, -si * sx, c * sy, oy};
+  s.has_transform = true;
+}
+
+void add_core(std::vector<TextureSlot>& out, int material, const char* key, int index, int tex_coord,
+              const tinygltf::ExtensionMap& exts, ColorSpace cs, bool normal) {
+  if (index < 0) return;
+  TextureSlot s;
+  s.material = material;
+  s.key = key;
+  s.texture = index;
+  s.tex_coord = tex_coord;
+  s.color_space = cs;
+  s.normal_map = normal;
+  read_transform(exts, s);
+  out.push_back(s);
+}
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+// Slots of material extensions that hold colour (sRGB) rather than data.
+bool is_srgb_extension_slot(const std::string& key) {
+  return key == "sheenColorTexture" || key == "specularColorTexture" || key == "diffuseTexture" ||
+         key == "specularGlossinessTexture";
+}
+
+}  // namespace
+
+int texture_image(const tinygltf::Model& model, int texture) {
+  if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return -1;
+  const int src = model.textures[texture].source;
+  if (src < 0 || static_cast<size_t>(src) >= model.images.size()) return -1;
+  return src;
+}
+
+std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int material) {
+  std::vector<TextureSlot> out;
+  if (material < 0 || static_cast<size_t>(material) >= model.materials.size()) return out;
+  const auto& m = model.materials[material];
+  const auto& pbr = m.pbrMetallicRoughness;
+  add_core(out, material, "baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
+           pbr.baseColorTexture.extensions, ColorSpace::srgb, false);
+  add_core(out, material, "metallicRoughnessTexture", pbr.metallicRoughnessTexture.index,
+           pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions, ColorSpace::linear, false);
+  add_core(out, material, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,
+           ColorSpace::linear, true);
+  add_core(out, material, "occlusionTexture", m.occlusionTexture.index, m.occlusionTexture.texCoord,
+           m.occlusionTexture.extensions, ColorSpace::linear, false);
+  add_core(out, material, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
+           m.emissiveTexture.extensions, ColorSpace::srgb, false);
+  for (const auto& [ext_name, ext] : m.extensions) {
+    if (!ext.IsObject()) continue;
+    for (const auto& key : ext.Keys()) {
+      const auto& v = ext.Get(key);
+      if (!ends_with(key, "Texture") || !v.IsObject() || !v.Has("index") || !v.Get("index").IsNumber()) continue;
+      TextureSlot s;
+      s.material = material;
+      s.extension = ext_name;
+      s.key = key;
+      s.texture = v.Get("index").GetNumberAsInt();
+      s.tex_coord = v.Has("texCoord") && v.Get("texCoord").IsNumber() ? v.Get("texCoord").GetNumberAsInt() : 0;
+      s.color_space = is_srgb_extension_slot(key) ? ColorSpace::srgb : ColorSpace::linear;
+      s.normal_map = ends_with(key, "NormalTexture");
+      if (v.Has("extensions") && v.Get("extensions").IsObject()) {
+        tinygltf::ExtensionMap em;
+        for (const auto& ek : v.Get("extensions").Keys()) em[ek] = v.Get("extensions").Get(ek);
+        read_transform(em, s);
+      }
+      out.push_back(s);
+    }
+  }
+  return out;
+}
+
+void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture) {
+  auto& m = model.materials[slot.material];
+  auto fix = [&](auto& info) {
+    info.index = texture;
+    info.texCoord = 0;
+    info.extensions.erase(kTransform);
+  };
+  if (slot.extension.empty()) {
+    if (slot.key == "baseColorTexture") fix(m.pbrMetallicRoughness.baseColorTexture);
+    if (slot.key == "metallicRoughnessTexture") fix(m.pbrMetallicRoughness.metallicRoughnessTexture);
+    if (slot.key == "normalTexture") fix(m.normalTexture);
+    if (slot.key == "occlusionTexture") fix(m.occlusionTexture);
+    if (slot.key == "emissiveTexture") fix(m.emissiveTexture);
+    return;
+  }
+  auto it = m.extensions.find(slot.extension);
+  if (it == m.extensions.end() || !it->second.IsObject()) return;
+  auto obj = it->second.Get<tinygltf::Value::Object>();
+  auto sit = obj.find(slot.key);
+  if (sit == obj.end() || !sit->second.IsObject()) return;
+  auto info = sit->second.Get<tinygltf::Value::Object>();
+  info["index"] = tinygltf::Value(texture);
+  info.erase("texCoord");
+  auto e = info.find("extensions");
+  if (e != info.end() && e->second.IsObject()) {
+    auto eo = e->second.Get<tinygltf::Value::Object>();
+    eo.erase(kTransform);
+    if (eo.empty()) info.erase(e);
+    else e->second = tinygltf::Value(eo);
+  }
+  sit->second = tinygltf::Value(info);
+  it->second = tinygltf::Value(obj);
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,56 @@
+// One glTF primitive's geometry as packed arrays: read from plain or
+// Draco-compressed accessors, written back as plain accessors or as
+// KHR_draco_mesh_compression.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "codec/draco_geometry.h"
+#include "format/gltf_accessors.h"
+
+namespace gltfwarp {
+
+inline constexpr const char* kDracoExtension = "KHR_draco_mesh_compression";
+
+struct PrimitiveGeometry {
+  std::vector<VertexAttribute> attributes;  // semantic set, one count
+  std::vector<uint32_t> triangles;          // three vertex ids per face
+  size_t vertex_count() const { return attributes.empty() ? 0 : attributes[0].count(); }
+  const VertexAttribute* find(const std::string& semantic) const;
+  VertexAttribute* find(const std::string& semantic);
+  void erase(const std::string& semantic);
+};
+
+// True for modes we turn into triangle lists (TRIANGLES, STRIP, FAN).
+bool is_triangle_mode(int mode);
+
+// Reads the primitive's attributes and triangles, decoding Draco if the
+// primitive carries KHR_draco_mesh_compression. Empty string or a one-line
+// error.
+std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& out);
+
+// Replaces the primitive's attributes and indices by new plain accessors
+// (mode becomes TRIANGLES). Old accessor ids are appended to `replaced`.
+void write_primitive_plain(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
+                           std::vector<int>& replaced);
+
+// Encodes with Draco and points the primitive at the compressed bufferView;
+// the accessors keep type and count but no bufferView, as the extension
+// prescribes. `decoded` receives what every decoder will see. `extra_empty`
+// names attributes to declare without data (e.g. TEXCOORD_0 rebuilt by us).
+std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
+                                  const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
+                                  size_t& draco_bytes);
+
+// Appends raw bytes as a new bufferView of buffer 0; returns its index.
+int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes);
+
+// Adds extension `name` to extensionsUsed (and extensionsRequired when asked), once.
+void declare_extension(tinygltf::Model& model, const std::string& name, bool required);
+// Removes `name` from extensionsUsed/Required when no primitive uses it any more.
+void retire_extension_if_unused(tinygltf::Model& model, const std::string& name);
+
+}  // namespace gltfwarp

@@ -1,0 +1,63 @@
+// The CLI as a user meets it: --help on every verb, one-line errors with a
+// non-zero exit on bad input, and no partial output files.
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "support/corpus.h"
+
+using namespace gltfwarp::test;
+namespace fs = std::filesystem;
+
+namespace {
+std::string cli() { return GLTFWARP_CLI; }
+
+void expect_one_line_failure(const std::string& args, const std::string& must_contain = "") {
+  std::string out;
+  const int code = run_command(cli() + " " + args + " 2>&1 >/dev/null", &out);
+  EXPECT_NE(code, 0) << args;
+  EXPECT_LT(code, 128) << "crashed: " << args;
+  ASSERT_FALSE(out.empty()) << args;
+  EXPECT_EQ(out.find('\n'), out.size() - 1) << "not one line: " << out;
+  EXPECT_EQ(out.rfind("gltf-warp: ", 0), 0u) << out;
+  if (!must_contain.empty()) EXPECT_NE(out.find(must_contain), std::string::npos) << out;
+}
+}  // namespace
+
+TEST(Cli, EveryVerbHasHelp) {
+  for (const std::string verb : {"encode", "decode", "info", "sample"}) {
+    std::string out;
+    EXPECT_EQ(run_command(cli() + " " + verb + " --help", &out), 0) << verb;
+    EXPECT_NE(out.find("Usage"), std::string::npos) << verb;
+  }
+}
+
+TEST(Cli, BadInputGivesOneLineErrorAndNoOutput) {
+  const std::string dir = scratch_dir("cli-bad");
+  std::ofstream(dir + "/broken.gltf") << "{\"asset\": {\"version\": \"2.0\"";
+  std::ofstream(dir + "/empty.glb") << "";
+  std::ofstream(dir + "/garbage.glb") << "glTF this is not a binary glTF at all";
+  for (const std::string f : {"broken.gltf", "empty.glb", "garbage.glb"}) {
+    expect_one_line_failure("encode " + dir + "/" + f + " -o " + dir + "/out.glb");
+    expect_one_line_failure("decode " + dir + "/" + f + " -o " + dir + "/out.glb");
+    expect_one_line_failure("info " + dir + "/" + f);
+    EXPECT_FALSE(fs::exists(dir + "/out.glb"));
+  }
+  expect_one_line_failure("encode " + dir + "/missing.glb -o " + dir + "/out.glb");
+  expect_one_line_failure("encode");
+  expect_one_line_failure("frobnicate");
+  expect_one_line_failure("encode " + dir + "/broken.gltf -o " + dir + "/out.glb --max-distortion 0.5");
+}
+
+TEST(Cli, SampleEncodeDecodeInfo) {
+  const std::string dir = scratch_dir("cli-ok");
+  std::string out;
+  ASSERT_EQ(run_command(cli() + " sample --faces 1500 --texture-size 128 -o " + dir + "/s.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(cli() + " encode " + dir + "/s.glb -o " + dir + "/e.glb 2>&1", &out), 0) << out;
+  EXPECT_NE(out.find("implicit-uv"), std::string::npos) << out;
+  ASSERT_EQ(run_command(cli() + " info --json " + dir + "/e.glb 2>&1", &out), 0) << out;
+  EXPECT_NE(out.find("\"bitstream_bytes\""), std::string::npos) << out;
+  ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.gltf 2>&1", &out), 0) << out;
+  EXPECT_TRUE(fs::exists(dir + "/d.bin"));
+}

@@ -1,0 +1,193 @@
+// The partition (codec/embed.h): the embedding's guarantees on every
+// generated shape in both modes, bit-exact agreement between the encoder's
+// growth and the decoder's replay, and the compactness targets of issue 8.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <map>
+
+#include "codec/embed.h"
+#include "codec/geometry2d.h"
+#include "codec/shapes.h"
+
+namespace gltfwarp {
+namespace {
+
+double area3(const TriMesh& m, uint32_t f) {
+  const float* p = m.positions.data();
+  const uint32_t* t = &m.indices[3 * f];
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = double(p[3 * t[1] + k]) - p[3 * t[0] + k];
+    e2[k] = double(p[3 * t[2] + k]) - p[3 * t[0] + k];
+  }
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+  return std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+// Exact overlap check inside each patch: a uniform grid per patch, and
+// triangles_overlap on every pair sharing a cell. Returns overlapping pairs.
+size_t count_overlaps(const Embedding& e) {
+  const uint32_t nf = static_cast<uint32_t>(e.patch_of_face.size());
+  std::vector<std::vector<uint32_t>> by_patch(e.patch_count);
+  for (uint32_t f = 0; f < nf; ++f) by_patch[e.patch_of_face[f]].push_back(f);
+  size_t overlaps = 0;
+  auto tri = [&](uint32_t f, Vec2 P[3]) {
+    for (int k = 0; k < 3; ++k) P[k] = {e.corner_xy[6 * f + 2 * k], e.corner_xy[6 * f + 2 * k + 1]};
+  };
+  for (const auto& faces : by_patch) {
+    double lx = 1e300, ly = 1e300, hx = -1e300, hy = -1e300, edge = 0;
+    for (uint32_t f : faces) {
+      Vec2 P[3];
+      tri(f, P);
+      for (int k = 0; k < 3; ++k) {
+        lx = std::min(lx, P[k].x), hx = std::max(hx, P[k].x);
+        ly = std::min(ly, P[k].y), hy = std::max(hy, P[k].y);
+        edge += std::hypot(P[k].x - P[(k + 1) % 3].x, P[k].y - P[(k + 1) % 3].y);
+      }
+    }
+    const double cell = std::max(edge / (3.0 * std::max<size_t>(faces.size(), 1)), 1e-12) * 2;
+    std::map<std::pair<long, long>, std::vector<uint32_t>> grid;
+    for (uint32_t f : faces) {
+      Vec2 P[3];
+      tri(f, P);
+      double bx0 = P[0].x, bx1 = P[0].x, by0 = P[0].y, by1 = P[0].y;
+      for (int k = 1; k < 3; ++k) {
+        bx0 = std::min(bx0, P[k].x), bx1 = std::max(bx1, P[k].x);
+        by0 = std::min(by0, P[k].y), by1 = std::max(by1, P[k].y);
+      }
+      for (long y = long(std::floor((by0 - ly) / cell)); y <= long(std::floor((by1 - ly) / cell)); ++y)
+        for (long x = long(std::floor((bx0 - lx) / cell)); x <= long(std::floor((bx1 - lx) / cell)); ++x) {
+          auto& bucket = grid[{x, y}];
+          for (uint32_t g : bucket) {
+            Vec2 Q[3];
+            tri(g, Q);
+            overlaps += triangles_overlap(P, Q);
+          }
+          bucket.push_back(f);
+        }
+    }
+  }
+  return overlaps;  // a pair sharing several cells counts several times; 0 is 0
+}
+
+struct ModeCase {
+  PartitionMode mode;
+  const char* name;
+};
+
+class EmbedGuarantees : public ::testing::TestWithParam<ModeCase> {};
+
+TEST_P(EmbedGuarantees, HoldOnEveryShape) {
+  for (const NamedShape& s : standard_shapes(1500)) {
+    SCOPED_TRACE(s.name);
+    const TriMesh& m = s.shape.mesh;
+    EmbedOptions opt;
+    opt.mode = GetParam().mode;
+    const Embedding e = embed(m, opt);
+    ASSERT_EQ(e.status, LayoutStatus::ok);
+    ASSERT_EQ(e.patch_of_face.size(), m.face_count());
+    // Every face in exactly one patch, every patch non-empty, numbered by lowest face.
+    std::vector<uint32_t> low(e.patch_count, ~0u);
+    for (uint32_t f = 0; f < m.face_count(); ++f) {
+      ASSERT_LT(e.patch_of_face[f], e.patch_count);
+      low[e.patch_of_face[f]] = std::min(low[e.patch_of_face[f]], f);
+    }
+    for (uint32_t p = 1; p < e.patch_count; ++p) ASSERT_LT(low[p - 1], low[p]);
+    // The encoder's growth computed exactly what the decoder's replay computes.
+    ASSERT_EQ(e.encoder_xy.size(), e.corner_xy.size());
+    EXPECT_EQ(std::memcmp(e.encoder_xy.data(), e.corner_xy.data(), e.corner_xy.size() * 8), 0);
+    for (double x : e.corner_xy) ASSERT_TRUE(std::isfinite(x));
+    // The bound, orientation and overlap, measured independently.
+    const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, opt.tau);
+    EXPECT_EQ(r.over_tau, 0u);
+    EXPECT_LE(r.max_distortion, opt.tau);
+    EXPECT_EQ(r.flipped, 0u);
+    uint32_t degenerate = 0;
+    for (uint32_t f = 0; f < m.face_count(); ++f) degenerate += area3(m, f) == 0;
+    EXPECT_EQ(r.zero_area, degenerate);  // only faces that are flat in 3D are flat in 2D
+    EXPECT_EQ(count_overlaps(e), 0u);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, EmbedGuarantees,
+                         ::testing::Values(ModeCase{PartitionMode::compact, "compact"},
+                                           ModeCase{PartitionMode::greedy, "greedy"}),
+                         [](const auto& info) { return std::string(info.param.name); });
+
+TEST(Embed, PlaneIsOnePatchCylinderAFew) {
+  for (PartitionMode mode : {PartitionMode::compact, PartitionMode::greedy}) {
+    EmbedOptions opt;
+    opt.mode = mode;
+    EXPECT_EQ(embed(make_plane(30, 20).mesh, opt).patch_count, 1u);
+    const uint32_t cyl = embed(make_cylinder_open(48, 16).mesh, opt).patch_count;
+    EXPECT_GE(cyl, 1u);
+    EXPECT_LE(cyl, 4u);
+  }
+}
+
+TEST(Embed, TighterTauGivesMorePatches) {
+  const TriMesh m = make_sphere(48, 24).mesh;
+  EmbedOptions loose, tight;
+  loose.tau = 1.5;
+  tight.tau = 1.1;
+  EXPECT_LT(embed(m, loose).patch_count, embed(m, tight).patch_count);
+  const Embedding e = embed(m, tight);
+  EXPECT_LE(e.report.max_distortion, 1.1);
+}
+
+TEST(Embed, RejectsBadMesh) {
+  TriMesh m = make_plane(3, 3).mesh;
+  m.indices[4] = 999;
+  EXPECT_EQ(embed(m).status, LayoutStatus::bad_mesh);
+}
+
+TEST(Embed, DegenerateSoupLandsEveryFace) {
+  const TriMesh m = make_degenerate_soup().mesh;
+  const Embedding e = embed(m);
+  ASSERT_EQ(e.status, LayoutStatus::ok);
+  // The fin's non-manifold edge is a seam: the three faces on it cannot all
+  // share a patch across that edge, yet each lands in some patch.
+  EXPECT_GE(e.patch_count, 3u);  // plane, isolated faces, the second component
+  const EmbedReport r = e.report;
+  EXPECT_EQ(r.face_count, m.face_count());
+  EXPECT_FALSE(std::isnan(r.mean_distortion));
+  EXPECT_FALSE(std::isnan(r.fill));
+}
+
+TEST(Embed, MeasureSeesSeamsOfAGivenPartition) {
+  const TriMesh m = make_plane(4, 4).mesh;  // 32 faces, rows of 8
+  std::vector<uint32_t> pof(m.face_count());
+  for (uint32_t f = 0; f < m.face_count(); ++f) pof[f] = f / 16;  // two halves
+  std::vector<double> xy;
+  ASSERT_EQ(layout_patches(m, pof, 2, xy), LayoutStatus::ok);
+  const EmbedReport r = measure_embedding(m, pof, 2, xy);
+  EXPECT_EQ(r.seam_edges, 4u);  // the row of 4 horizontal edges between them
+  EXPECT_NEAR(r.seam_length, 1.0, 1e-6);
+  EXPECT_NEAR(r.fill, 1.0, 1e-9);
+  EXPECT_EQ(r.holes, 0u);
+}
+
+// Issue 8's targets against plain greedy, on the paper-like shapes.
+TEST(Embed, CompactBeatsGreedy) {
+  const std::vector<NamedShape> shapes = standard_shapes(3000);
+  for (const NamedShape& s : shapes) {
+    if (s.name == "plane" || s.name == "degenerate_soup" || s.name == "cylinder_open") continue;
+    SCOPED_TRACE(s.name);
+    EmbedOptions g, c;
+    g.mode = PartitionMode::greedy;
+    const EmbedReport rg = embed(s.shape.mesh, g).report;
+    const EmbedReport rc = embed(s.shape.mesh, c).report;
+    std::printf("%-14s greedy P=%u seams=%u fill=%.2f holes=%u | compact P=%u seams=%u fill=%.2f holes=%u\n",
+                s.name.c_str(), rg.patch_count, rg.seam_edges, rg.fill, rg.holes, rc.patch_count,
+                rc.seam_edges, rc.fill, rc.holes);
+    EXPECT_GE(rc.fill, 0.6);
+    EXPECT_LE(rc.seam_edges, rg.seam_edges);
+    EXPECT_LE(rc.holes, rg.holes);
+  }
+}
+
+}  // namespace
+}  // namespace gltfwarp

@@ -1,0 +1,161 @@
+// Round trips through the real CLI: every corpus model and generated samples
+// are encoded and decoded; both files must pass the Khronos validator with no
+// error code the source does not already have, and the scene must survive.
+#include <filesystem>
+#include <map>
+#include <set>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "codec/sample_model.h"
+#include "format/extension.h"
+#include "format/gltf_io.h"
+#include "format/gltf_primitive.h"
+#include "support/corpus.h"
+
+namespace fs = std::filesystem;
+using namespace gltfwarp;
+using namespace gltfwarp::test;
+
+namespace {
+
+std::set<std::string> error_codes(const ValidatorResult& r) {
+  std::set<std::string> out;
+  if (r.codes_json.empty()) return out;
+  for (auto& [k, v] : nlohmann::json::parse(r.codes_json).items()) out.insert(k);
+  return out;
+}
+
+struct Counts {
+  size_t nodes, meshes, animations, skins, cameras, scenes;
+  std::vector<std::vector<std::set<std::string>>> attributes;  // mesh -> prim -> semantics
+  std::vector<std::vector<size_t>> triangles;
+  double area = 0;
+};
+
+Counts counts_of(const std::string& path) {
+  tinygltf::Model m;
+  auto r = read_gltf(path, m);
+  EXPECT_TRUE(r.ok) << r.error;
+  Counts c{m.nodes.size(), m.meshes.size(), m.animations.size(), m.skins.size(), m.cameras.size(), m.scenes.size(), {}, {}};
+  for (const auto& mesh : m.meshes) {
+    c.attributes.emplace_back();
+    c.triangles.emplace_back();
+    for (const auto& prim : mesh.primitives) {
+      std::set<std::string> s;
+      for (const auto& [k, v] : prim.attributes) s.insert(k);
+      c.attributes.back().push_back(s);
+      size_t tris = 0;
+      if (is_triangle_mode(prim.mode)) {
+        PrimitiveGeometry g;
+        std::string err = read_primitive(m, prim, g);
+        EXPECT_TRUE(err.empty()) << path << ": " << err;
+        tris = g.triangles.size() / 3;
+        if (const auto* pos = g.find("POSITION"))
+          for (size_t f = 0; f < tris; ++f) {
+            double p[3][3];
+            for (int k = 0; k < 3; ++k)
+              for (int i = 0; i < 3; ++i) p[k][i] = pos->get(g.triangles[3 * f + k], i);
+            const double a[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
+            const double b[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
+            const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+            c.area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+          }
+      }
+      c.triangles.back().push_back(tris);
+    }
+  }
+  return c;
+}
+
+void check_round_trip(const std::string& name, const std::string& src, const std::string& extra_args = "") {
+  const std::string dir = scratch_dir("roundtrip-" + name);
+  const std::string enc = dir + "/enc.glb", dec = dir + "/dec.gltf";
+  std::string out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q " + extra_args + " '" + src + "' -o " + enc + " 2>&1", &out), 0)
+      << out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0) << out;
+
+  const Counts a = counts_of(src), d = counts_of(dec);
+  EXPECT_EQ(a.nodes, d.nodes);
+  EXPECT_EQ(a.meshes, d.meshes);
+  EXPECT_EQ(a.animations, d.animations);
+  EXPECT_EQ(a.skins, d.skins);
+  EXPECT_EQ(a.cameras, d.cameras);
+  EXPECT_EQ(a.scenes, d.scenes);
+  EXPECT_EQ(a.triangles, d.triangles);
+  EXPECT_EQ(a.attributes, d.attributes);
+  EXPECT_NEAR(a.area, d.area, 1e-3 * a.area + 1e-9) << "surface area changed beyond quantization";
+
+  // The encoded file really uses our extension where textures sample TEXCOORD_0.
+  tinygltf::Model em;
+  ASSERT_TRUE(read_gltf(enc, em).ok);
+  const ValidatorResult vs = validate(src), ve = validate(enc), vd = validate(dec);
+  if (!vs.ran) {
+    if (on_ci()) FAIL() << "gltf-validator is not installed (run scripts/install-deps)";
+    GTEST_SKIP() << "gltf-validator not installed";
+  }
+  const auto allowed = error_codes(vs);
+  for (const auto& code : error_codes(ve)) EXPECT_TRUE(allowed.count(code)) << "encoded file has new error " << code << ": " << ve.raw;
+  for (const auto& code : error_codes(vd)) EXPECT_TRUE(allowed.count(code)) << "decoded file has new error " << code << ": " << vd.raw;
+  EXPECT_GE(ve.errors, 0) << ve.raw;
+  EXPECT_GE(vd.errors, 0) << vd.raw;
+}
+
+}  // namespace
+
+class CorpusRoundTrip : public ::testing::TestWithParam<std::string> {};
+
+TEST(CorpusPresence, CorpusIsFound) {
+  GLTFWARP_REQUIRE_CORPUS();
+  EXPECT_GE(corpus_models().size(), 9u);
+}
+
+TEST(CorpusRoundTrip, EveryModelRoundTrips) {
+  GLTFWARP_REQUIRE_CORPUS();
+  for (const auto& m : corpus_models()) {
+    SCOPED_TRACE(m.name);
+    check_round_trip(m.name, m.path);
+  }
+}
+
+TEST(CorpusRoundTrip, RawGeometryRoundTrips) {
+  GLTFWARP_REQUIRE_CORPUS();
+  for (const auto& m : corpus_models()) {
+    if (m.name != "Duck" && m.name != "CesiumMilkTruck") continue;
+    SCOPED_TRACE(m.name);
+    check_round_trip(m.name + "-raw", m.path, "--geometry raw");
+  }
+}
+
+TEST(GeneratedRoundTrip, SamplesRoundTrip) {
+  for (const std::string shape : {"twisted-cone", "torus", "sphere", "plane"}) {
+    SCOPED_TRACE(shape);
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model(shape, 3000, 256, model), "");
+    const std::string src = scratch_dir("sample-" + shape) + "/src.glb";
+    ASSERT_EQ(write_gltf(model, src), "");
+    check_round_trip("sample-" + shape, src);
+  }
+}
+
+TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
+  tinygltf::Model model;
+  ASSERT_EQ(make_sample_model("twisted-cone", 2000, 128, model), "");
+  const std::string dir = scratch_dir("uses-extension");
+  ASSERT_EQ(write_gltf(model, dir + "/src.glb"), "");
+  std::string out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q " + dir + "/src.glb -o " + dir + "/enc.glb 2>&1", &out), 0) << out;
+  tinygltf::Model em;
+  ASSERT_TRUE(read_gltf(dir + "/enc.glb", em).ok);
+  const auto& prim = em.meshes[0].primitives[0];
+  ASSERT_TRUE(prim.extensions.count(ext::kName));
+  ASSERT_TRUE(prim.extensions.count(kDracoExtension));
+  const auto& uv = em.accessors[prim.attributes.at("TEXCOORD_0")];
+  EXPECT_EQ(uv.bufferView, -1) << "TEXCOORD_0 must be declared without data";
+  EXPECT_NE(std::find(em.extensionsRequired.begin(), em.extensionsRequired.end(), ext::kName), em.extensionsRequired.end());
+  // The Draco data must not carry TEXCOORD_0.
+  const auto& dext = prim.extensions.at(kDracoExtension);
+  EXPECT_FALSE(dext.Get("attributes").Has("TEXCOORD_0"));
+}
