@@ -100,8 +100,9 @@ TEST(Layout, RandomPartitionsNeverCrash) {
     }
     if (trial % 3 == 0) pof[rng() % nf] = rng() % (next + 2);  // sometimes invalid
     const LayoutStatus s = layout_patches(m, pof, next, xy);
-    if (s == LayoutStatus::ok)
+    if (s == LayoutStatus::ok) {
       for (double x : xy) ASSERT_FALSE(std::isnan(x));
+    }
   }
 }
 
