@@ -30,6 +30,9 @@ struct Mask {
   int bx0 = 0, by0 = 0;  // texel origin of the mask in the rotated, scaled patch frame
   int cw = 0, ch = 0;    // size in cells
   std::vector<int> bottom, top;  // per cell column: first occupied row, last + 1 (kNone: empty)
+  std::vector<int> row_start;    // per cell row r: runs[row_start[r] .. row_start[r + 1])
+  std::vector<std::pair<int, int>> runs;  // occupied cell columns [first, last + 1) of a row
+  std::vector<int> widest;       // per cell row: its widest run
   uint64_t cells = 0;
 };
 
@@ -80,7 +83,7 @@ struct TriRaster {
 };
 
 void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code,
-                double scale, int r, int cell, Mask& m, std::vector<double>& q,
+                double scale, int r, int cell, bool true_shape, Mask& m, std::vector<double>& q,
                 std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
   double c, s;
   rot_cs(code, c, s);
@@ -109,7 +112,8 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
     TriRaster::conservative(q[6 * k] - m.bx0, q[6 * k + 1] - m.by0, q[6 * k + 2] - m.bx0,
                             q[6 * k + 3] - m.by0, q[6 * k + 4] - m.bx0, q[6 * k + 5] - m.by0, tw,
                             th, bits);
-  if (r > 0) {  // Chebyshev dilation by r: rows then columns
+  if (!true_shape) std::fill(bits.begin(), bits.end(), 1);  // the bounding rectangle
+  if (r > 0 && true_shape) {  // Chebyshev dilation by r: rows then columns
     tmp.assign(bits.size(), 0);
     for (int j = 0; j < th; ++j) {
       const uint8_t* row = &bits[size_t(j) * tw];
@@ -130,6 +134,8 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
   m.bottom.assign(m.cw, kNone);
   m.top.assign(m.cw, kNone);
   m.cells = 0;
+  m.row_start.assign(1, 0);
+  m.runs.clear();
   std::vector<uint8_t> cellrow(m.cw);
   for (int cj = 0; cj < m.ch; ++cj) {
     std::fill(cellrow.begin(), cellrow.end(), 0);
@@ -141,8 +147,120 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
       ++m.cells;
       if (m.bottom[ci] == kNone) m.bottom[ci] = cj;
       m.top[ci] = cj + 1;
+      if (ci == 0 || !cellrow[ci - 1]) m.runs.push_back({ci, ci + 1});
+      else m.runs.back().second = ci + 1;
+    }
+    m.row_start.push_back(int(m.runs.size()));
+  }
+  m.widest.assign(m.ch, 0);
+  for (int row = 0; row < m.ch; ++row)
+    for (int k = m.row_start[row]; k < m.row_start[row + 1]; ++k)
+      m.widest[row] = std::max(m.widest[row], m.runs[k].second - m.runs[k].first);
+}
+
+// Occupancy of one page, one bit per cell.
+struct Bitmap {
+  int wc = 0, hc = 0, words = 0;
+  std::vector<uint64_t> bits;
+  int used_rows = 0;  // rows below this are all free
+  std::vector<int> max_free;  // per row: longest run of free cells
+  void reset(int w, int h) {
+    wc = w, hc = h, words = (w + 63) / 64, used_rows = 0;
+    bits.assign(size_t(words) * h, 0);
+    max_free.assign(h, w);
+  }
+  void update_free(int y) {
+    const uint64_t* row = &bits[size_t(y) * words];
+    int best = 0, run = 0;
+    for (int w = 0; w < words; ++w) {
+      const uint64_t v = row[w];
+      const int nbits = std::min(64, wc - (w << 6));
+      if (v == 0) {
+        run += nbits;
+        continue;
+      }
+      for (int b = 0; b < nbits; ++b) {
+        if (v >> b & 1) {
+          best = std::max(best, run);
+          run = 0;
+        } else {
+          ++run;
+        }
+      }
+    }
+    max_free[y] = std::max(best, run);
+  }
+  // First set bit in [lo, hi) of row y, or -1.
+  int first_set(int y, int lo, int hi) const {
+    const uint64_t* row = &bits[size_t(y) * words];
+    int w = lo >> 6;
+    const int wend = (hi - 1) >> 6;
+    uint64_t v = row[w] & (~uint64_t(0) << (lo & 63));
+    for (;;) {
+      if (w == wend) {
+        const int top = hi - (w << 6);
+        if (top < 64) v &= (uint64_t(1) << top) - 1;
+        return v ? (w << 6) + __builtin_ctzll(v) : -1;
+      }
+      if (v) return (w << 6) + __builtin_ctzll(v);
+      v = row[++w];
     }
   }
+  // First clear bit at or after `from` in row y (wc if none).
+  int first_clear(int y, int from) const {
+    const uint64_t* row = &bits[size_t(y) * words];
+    int w = from >> 6;
+    if (w >= words) return wc;
+    uint64_t v = ~row[w] & (~uint64_t(0) << (from & 63));
+    while (!v) {
+      if (++w >= words) return wc;
+      v = ~row[w];
+    }
+    return std::min(wc, (w << 6) + __builtin_ctzll(v));
+  }
+  void set(int y, int lo, int hi) {
+    uint64_t* row = &bits[size_t(y) * words];
+    for (int i = lo; i < hi; ++i) row[i >> 6] |= uint64_t(1) << (i & 63);
+  }
+};
+
+// Lowest (then leftmost) position where mask m fits, or false.
+bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_from, int y_limit) {
+  if (m.cw > bm.wc) return false;
+  for (int y = y_from; y + m.ch <= bm.hc && y < y_limit; ++y) {
+    if (y >= bm.used_rows) {  // everything below is free
+      out_x = 0, out_y = y;
+      return true;
+    }
+    bool room = true;  // every row has a free run as wide as the mask's row needs
+    for (int r = 0; r < m.ch && room; ++r) room = bm.max_free[y + r] >= m.widest[r];
+    if (!room) continue;
+    int x = 0;
+    int last = 0;  // the row that collided last is the likeliest to collide again
+    while (x + m.cw <= bm.wc) {
+      bool hit = false;
+      for (int i = -1; i < m.ch && !hit; ++i) {
+        const int r = i < 0 ? last : i;
+        if (i == last) continue;
+        const int yy = y + r;
+        if (yy >= bm.used_rows) continue;
+        for (int k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
+          const int p = bm.first_set(yy, x + m.runs[k].first, x + m.runs[k].second);
+          if (p >= 0) {  // skip the whole occupied run that starts at p
+            x = std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first);
+            hit = true;
+            last = r;
+            break;
+          }
+        }
+      }
+      if (!hit) {
+        out_x = x, out_y = y;
+        return true;
+      }
+    }
+  }
+  return false;
 }
 
 struct Placed {
@@ -197,6 +315,63 @@ bool skyline_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& 
       const Mask& m = p.masks[best_m];
       for (int c = 0; c < m.cw; ++c)
         if (m.bottom[c] != kNone) sky[best_x + c] = best_y + m.top[c];
+      placed[pi] = Placed{int(pg), best_m, best_x, best_y};
+      done = true;
+    }
+    if (!done) return false;
+  }
+  return true;
+}
+
+// Bottom-left-fill on a cell bitmap: every patch goes to the lowest, then
+// leftmost, position (over its turns) where its true footprint fits, so small
+// patches fill the holes that larger ones leave.
+bool bitmap_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
+                 int hc_max, uint32_t max_pages, int search_depth, std::vector<Placed>& placed,
+                 std::vector<Page>& pages) {
+  std::vector<Bitmap> maps;
+  pages.clear();
+  placed.assign(patches.size(), Placed{});
+  for (uint32_t pi : order) {
+    PatchInfo& p = patches[pi];
+    bool done = false;
+    for (size_t pg = 0; pg <= maps.size() && !done; ++pg) {
+      if (pg == maps.size()) {
+        if (maps.size() >= max_pages) return false;
+        maps.emplace_back();
+        maps.back().reset(wc, hc_max);
+        pages.push_back(Page{std::vector<int>(wc, 0)});
+      }
+      Bitmap& bm = maps[pg];
+      int best_m = -1, best_x = 0, best_y = 0, best_bottom = INT_MAX;
+      // Holes far below the lowest point of the skyline are left alone: the
+      // search starts a few patch heights above it (bounded work per patch).
+      const int min_sky = *std::min_element(pages[pg].sky.begin(), pages[pg].sky.end());
+      for (int mi = 0; mi < p.mask_count; ++mi) {
+        const Mask& m = p.masks[mi];
+        int x, y;
+        // A turn can only win if it ends higher than the best so far.
+        const int y_from = std::max(0, min_sky - search_depth * m.ch);
+        if (!lowest_fit(bm, m, x, y, y_from, best_m < 0 ? INT_MAX : best_bottom - m.ch + 1)) continue;
+        const int bottom = y + m.ch;
+        if (bottom < best_bottom || (bottom == best_bottom && y < best_y)) {
+          best_m = mi, best_x = x, best_y = y, best_bottom = bottom;
+        }
+      }
+      if (best_m < 0) {
+        if (bm.used_rows == 0) return false;  // does not fit an empty page
+        continue;
+      }
+      const Mask& m = p.masks[best_m];
+      for (int r = 0; r < m.ch; ++r) {
+        for (int k = m.row_start[r]; k < m.row_start[r + 1]; ++k)
+          bm.set(best_y + r, best_x + m.runs[k].first, best_x + m.runs[k].second);
+        bm.update_free(best_y + r);
+      }
+      bm.used_rows = std::max(bm.used_rows, best_y + m.ch);
+      std::vector<int>& sky = pages[pg].sky;
+      for (int c = 0; c < m.cw; ++c)
+        if (m.bottom[c] != kNone) sky[best_x + c] = std::max(sky[best_x + c], best_y + m.top[c]);
       placed[pi] = Placed{int(pg), best_m, best_x, best_y};
       done = true;
     }
@@ -396,14 +571,14 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     if (cell <= 0) {
       const double side = std::sqrt(texel_area / 0.8);
-      cell = side <= 1536 ? 1 : side <= 3072 ? 2 : 4;
+      cell = side <= 640 ? 1 : side <= 2560 ? 2 : 4;
     }
     uint64_t cell_area = 0;
     for (PatchInfo& p : patches) {
       p.mask_count = options.rotate_90 ? 4 : 1;
       for (int k = 0; k < p.mask_count; ++k)
         build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
-                   scale, r, cell, p.masks[k], q, bits, tmp);
+                   scale, r, cell, options.true_shapes, p.masks[k], q, bits, tmp);
       cell_area += p.masks[0].cells;
       p.order_key = uint64_t(std::max(p.masks[0].ch, p.masks[0].cw)) << 32 | p.masks[0].cells;
     }
@@ -422,7 +597,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       for (int k = 0; k < p.mask_count; ++k) m = std::min(m, p.masks[k].cw);
       min_w = std::max(min_w, m * cell);
     }
-    for (double f : {0.8, 0.95, 1.1, 1.3}) {
+    for (double f : {0.8, 0.9, 1.0, 1.12, 1.25, 1.45}) {
       uint32_t w = round_size(uint64_t(std::max(double(min_w), side * f)), options.rounding);
       w = std::min(w, max_size);
       if (std::find(widths.begin(), widths.end(), w) == widths.end()) widths.push_back(w);
@@ -432,20 +607,25 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     uint64_t best_area = UINT64_MAX;
     uint32_t best_w = 0, best_h = 0, best_pages = 0;
     std::vector<Placed> best_placed;
-    for (uint32_t w : widths) {
+    auto try_width = [&](uint32_t w, bool bitmap) -> uint64_t {
       const int wc = int(w) / cell;
-      if (!skyline_pack(patches, order, wc, hc_max, options.max_pages, placed, pages)) continue;
+      const bool fits = bitmap ? bitmap_pack(patches, order, wc, hc_max, options.max_pages,
+                                             int(options.search_depth), placed, pages)
+                               : skyline_pack(patches, order, wc, hc_max, options.max_pages, placed, pages);
+      if (!fits) return UINT64_MAX;
       int hc = 0;
       for (const Page& pg : pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
       const uint32_t h = round_size(uint64_t(hc) * cell, options.rounding);
-      if (h > max_size) continue;
+      if (h > max_size) return UINT64_MAX;
       const uint64_t area = uint64_t(w) * h * pages.size();
       const bool squarer = area == best_area && std::max(w, h) < std::max(best_w, best_h);
       if (area < best_area || squarer) {
         best_area = area, best_w = w, best_h = h, best_pages = uint32_t(pages.size());
         best_placed = placed;
       }
-    }
+      return area;
+    };
+    for (uint32_t w : widths) try_width(w, options.method == PackMethod::bitmap);
     if (best_area == UINT64_MAX) {
       scale = double(float(scale * options.shrink_factor));
       ++result.report.shrink_retries;

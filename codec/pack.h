@@ -5,10 +5,13 @@
 // 2001 short paper, section 4), found by rotating calipers on the convex hull
 // (codec/geometry2d.h), then quantized to the format's rotation code. Packing goes
 // beyond the paper (it left compact packing as future work): the patches' true
-// shapes, rasterised conservatively and dilated by half the gutter, are
-// dropped onto a skyline of cell columns ("tetris" packing as in Levy et al.,
-// "Least Squares Conformal Maps", SIGGRAPH 2002, section 5), trying four 90
-// degree turns and several page widths, keeping the smallest page.
+// shapes, rasterised conservatively and dilated by half the gutter, go to the
+// lowest free position on an occupancy bitmap of cells (bottom-left fill,
+// Chazelle 1983; on raster masks as in xatlas' brute-force packer), so small
+// patches fill the holes that large ones leave. PackMethod::skyline instead
+// drops them onto a skyline of cell columns ("tetris" packing, Levy et al.,
+// "Least Squares Conformal Maps", SIGGRAPH 2002, section 5). Both try four
+// 90 degree turns and several page widths, keeping the smallest page.
 #pragma once
 
 #include <cstdint>
@@ -47,6 +50,9 @@ struct PackOptions {
   SizeRounding rounding = SizeRounding::multiple_of_4;
   bool rotate_90 = true;            // also try 90, 180, 270 degree turns of each patch
   PackMethod method = PackMethod::bitmap;
+  bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
+  uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights
+                                    // above the lowest skyline point (bounds the work)
   uint32_t cell = 0;                // packing raster cell in texels; 0 = auto (1..4 by atlas size)
   double shrink_factor = 0.92;      // texel scale factor per retry when a page would be too large
   uint32_t max_retries = 60;        // give up (status too_large) after this many shrinks

@@ -34,14 +34,14 @@ void add_tri(GenPrim& g, uint32_t patch, double ax, double ay, double bx, double
   g.patch_of_face.push_back(patch);
 }
 
-GenPrim generate(uint32_t patches, uint32_t seed, double size = 10.0) {
+GenPrim generate(uint32_t patches, uint32_t seed, double size = 10.0, bool lshapes = false) {
   GenPrim g;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(0, 1);
   for (uint32_t p = 0; p < patches; ++p) {
     const double cx = u(rng) * 100, cy = u(rng) * 100, rot = u(rng) * 6.28;
     const double sz = size * (0.3 + 1.4 * u(rng));
-    const int kind = int(rng() % 3);
+    const int kind = int(rng() % (lshapes ? 4 : 3));
     auto tr = [&](double x, double y, double& ox, double& oy) {
       ox = cx + std::cos(rot) * x - std::sin(rot) * y;
       oy = cy + std::sin(rot) * x + std::cos(rot) * y;
@@ -57,6 +57,18 @@ GenPrim generate(uint32_t patches, uint32_t seed, double size = 10.0) {
         tr(rad[k] * std::cos(a0), rad[k] * std::sin(a0), x1, y1);
         tr(rad[(k + 1) % n] * std::cos(a1), rad[(k + 1) % n] * std::sin(a1), x2, y2);
         add_tri(g, p, x0, y0, x1, y1, x2, y2);
+      }
+    } else if (kind == 3) {  // L shape: two arms of a square of side sz
+      const double t = sz * 0.3;
+      const double quads[2][4] = {{0, 0, sz, t}, {0, t, t, sz}};
+      for (const auto& qd : quads) {
+        double x[4], y[4];
+        tr(qd[0], qd[1], x[0], y[0]);
+        tr(qd[2], qd[1], x[1], y[1]);
+        tr(qd[2], qd[3], x[2], y[2]);
+        tr(qd[0], qd[3], x[3], y[3]);
+        add_tri(g, p, x[0], y[0], x[1], y[1], x[2], y[2]);
+        add_tri(g, p, x[0], y[0], x[2], y[2], x[3], y[3]);
       }
     } else {  // rectangle grid (kind 1) or thin strip (kind 2)
       const double w = sz * (kind == 2 ? 3.0 : 1.0), h = sz * (kind == 2 ? 0.25 : 0.7);
@@ -167,7 +179,30 @@ TEST(Pack, NoOverlapGutterInsideAndFill) {
   check_footprints(prims, res, opt.gutter);
   std::printf("fill %.3f atlas %ux%u covered %llu, %.1f ms\n", r.fill, r.atlas_width,
               r.atlas_height, (unsigned long long)r.covered_texels, r.seconds * 1e3);
-  EXPECT_GT(r.fill, 0.55);
+  EXPECT_GT(r.fill, 0.6);
+}
+
+TEST(Pack, TrueShapesBeatRectanglesAndSkyline) {
+  const GenPrim a = generate(120, 7, 10.0, true);
+  const PackPrimitive prims[1] = {a.view()};
+  PackOptions opt;
+  opt.texel_scale = 4.0;
+  PackResult shapes, rects, sky;
+  ASSERT_EQ(pack_atlas(prims, opt, shapes), PackStatus::ok);
+  opt.method = PackMethod::skyline;
+  ASSERT_EQ(pack_atlas(prims, opt, sky), PackStatus::ok);
+  opt.method = PackMethod::bitmap;
+  opt.true_shapes = false;
+  ASSERT_EQ(pack_atlas(prims, opt, rects), PackStatus::ok);
+  for (const PackResult* r : {&shapes, &rects, &sky}) {
+    EXPECT_EQ(r->report.overlap_texels, 0u);
+    EXPECT_EQ(r->report.outside_texels, 0u);
+    check_footprints(prims, *r, opt.gutter);
+  }
+  std::printf("fill: true shapes %.3f, skyline %.3f, rectangles %.3f\n", shapes.report.fill,
+              sky.report.fill, rects.report.fill);
+  EXPECT_GT(shapes.report.fill, rects.report.fill + 0.04);
+  EXPECT_GT(shapes.report.fill, sky.report.fill);
 }
 
 TEST(Pack, PowerOfTwoAndShrinkToMaxSize) {
