@@ -68,6 +68,7 @@ int add_clamp_sampler(tinygltf::Model& model) {
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                 EncodeReport& report) {
   int clamp_sampler = -1;
+  std::vector<int> retired_textures;  // source textures the atlas replaced
   for (size_t gi = 0; gi < plan.groups.size(); ++gi) {
     auto& group = plan.groups[gi];
     if (group.members.empty()) continue;
@@ -215,11 +216,13 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
           model.textures.push_back(tex);
           it = made.emplace(key, static_cast<int>(model.textures.size() - 1)).first;
         }
+        retired_textures.push_back(slot.texture);
         retarget_slot(model, slot, it->second);
       }
     }
     report.atlases.push_back(ar);
   }
+  drop_unused_textures(model, retired_textures);
   if (options.progress) options.progress("atlas", 1.0);
   return {};
 }

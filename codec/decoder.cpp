@@ -12,6 +12,29 @@
 #include "format/gltf_primitive.h"
 
 namespace gltfwarp {
+namespace {
+
+// Draco quantizes float WEIGHTS_n independently, so their sum drifts from 1;
+// glTF requires it to be 1, so scale each vertex's weights back.
+void renormalize_weights(PrimitiveGeometry& geom) {
+  std::vector<VertexAttribute*> sets;
+  for (auto& a : geom.attributes)
+    if (a.semantic.rfind("WEIGHTS_", 0) == 0 && a.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT) sets.push_back(&a);
+  if (sets.empty()) return;
+  for (size_t v = 0; v < geom.vertex_count(); ++v) {
+    double sum = 0;
+    for (auto* a : sets)
+      for (int i = 0; i < a->components; ++i) sum += a->get(v, i);
+    if (!(sum > 0)) continue;
+    for (auto* a : sets)
+      for (int i = 0; i < a->components; ++i) {
+        const float w = static_cast<float>(a->get(v, i) / sum);
+        std::memcpy(a->data.data() + (v * a->components + i) * 4, &w, 4);
+      }
+  }
+}
+
+}  // namespace
 
 std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report) {
   std::vector<int> replaced;
@@ -26,6 +49,7 @@ std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, D
       PrimitiveGeometry geom;
       std::string err = read_primitive(model, prim, geom);
       if (!err.empty()) return where + err;
+      if (draco) renormalize_weights(geom);
       if (ours) {
         err = rebuild_texcoords(model, prim, geom);
         if (!err.empty()) return where + err;

@@ -1,5 +1,6 @@
 #include "format/gltf_materials.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace gltfwarp {
@@ -133,6 +134,91 @@ void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture)
   }
   sit->second = tinygltf::Value(info);
   it->second = tinygltf::Value(obj);
+}
+
+}  // namespace gltfwarp
+
+namespace gltfwarp {
+namespace {
+
+// Calls fn on every texture index a material slot holds (core and extension slots).
+template <typename Fn>
+void for_each_texture_ref(tinygltf::Model& model, Fn&& fn) {
+  for (auto& m : model.materials) {
+    fn(m.pbrMetallicRoughness.baseColorTexture.index);
+    fn(m.pbrMetallicRoughness.metallicRoughnessTexture.index);
+    fn(m.normalTexture.index);
+    fn(m.occlusionTexture.index);
+    fn(m.emissiveTexture.index);
+    for (auto& [name, ext] : m.extensions) {
+      if (!ext.IsObject()) continue;
+      auto obj = ext.template Get<tinygltf::Value::Object>();
+      bool changed = false;
+      for (auto& [key, v] : obj) {
+        if (key.size() < 7 || key.compare(key.size() - 7, 7, "Texture") != 0 || !v.IsObject()) continue;
+        auto info = v.template Get<tinygltf::Value::Object>();
+        auto it = info.find("index");
+        if (it == info.end() || !it->second.IsNumber()) continue;
+        int idx = it->second.GetNumberAsInt();
+        fn(idx);
+        it->second = tinygltf::Value(idx);
+        v = tinygltf::Value(info);
+        changed = true;
+      }
+      if (changed) ext = tinygltf::Value(obj);
+    }
+  }
+}
+
+// Calls fn on every image index a texture names (source and extension sources).
+template <typename Fn>
+void for_each_image_ref(tinygltf::Model& model, Fn&& fn) {
+  for (auto& t : model.textures) {
+    fn(t.source);
+    for (auto& [name, ext] : t.extensions) {
+      if (!ext.IsObject() || !ext.Has("source") || !ext.Get("source").IsNumber()) continue;
+      auto obj = ext.template Get<tinygltf::Value::Object>();
+      int idx = obj["source"].GetNumberAsInt();
+      fn(idx);
+      obj["source"] = tinygltf::Value(idx);
+      ext = tinygltf::Value(obj);
+    }
+  }
+}
+
+template <typename T, typename Refs>
+void drop_unreferenced(std::vector<T>& items, const std::vector<int>& candidates, Refs&& refs) {
+  std::vector<int> count(items.size(), 0);
+  refs([&](int& i) {
+    if (i >= 0 && static_cast<size_t>(i) < count.size()) count[i]++;
+  });
+  std::vector<int> map(items.size(), -1);
+  std::vector<T> kept;
+  for (size_t i = 0; i < items.size(); ++i) {
+    const bool candidate = std::find(candidates.begin(), candidates.end(), static_cast<int>(i)) != candidates.end();
+    if (candidate && count[i] == 0) continue;
+    map[i] = static_cast<int>(kept.size());
+    kept.push_back(std::move(items[i]));
+  }
+  items = std::move(kept);
+  refs([&](int& i) {
+    if (i >= 0 && static_cast<size_t>(i) < map.size()) i = map[i];
+  });
+}
+
+}  // namespace
+
+void drop_unused_textures(tinygltf::Model& model, const std::vector<int>& candidates) {
+  std::vector<int> images;
+  for (int t : candidates) {
+    if (t < 0 || static_cast<size_t>(t) >= model.textures.size()) continue;
+    if (model.textures[t].source >= 0) images.push_back(model.textures[t].source);
+    for (const auto& [name, ext] : model.textures[t].extensions)
+      if (ext.IsObject() && ext.Has("source") && ext.Get("source").IsNumber())
+        images.push_back(ext.Get("source").GetNumberAsInt());
+  }
+  drop_unreferenced(model.textures, candidates, [&](auto&& fn) { for_each_texture_ref(model, fn); });
+  drop_unreferenced(model.images, images, [&](auto&& fn) { for_each_image_ref(model, fn); });
 }
 
 }  // namespace gltfwarp

@@ -40,3 +40,14 @@ void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture)
 int texture_image(const tinygltf::Model& model, int texture);
 
 }  // namespace gltfwarp
+
+namespace gltfwarp {
+
+// Drops the textures in `candidates` that no material references any more,
+// then the images no texture references any more (only images that a dropped
+// texture used), renumbering every reference the core and the known
+// extensions make. Textures and images outside the candidates stay: an
+// extension we do not know might name them.
+void drop_unused_textures(tinygltf::Model& model, const std::vector<int>& candidates);
+
+}  // namespace gltfwarp

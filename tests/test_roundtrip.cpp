@@ -23,7 +23,8 @@ namespace {
 std::set<std::string> error_codes(const ValidatorResult& r) {
   std::set<std::string> out;
   if (r.codes_json.empty()) return out;
-  for (auto& [k, v] : nlohmann::json::parse(r.codes_json).items()) out.insert(k);
+  const auto codes = nlohmann::json::parse(r.codes_json);
+  for (auto it = codes.begin(); it != codes.end(); ++it) out.insert(it.key());
   return out;
 }
 
