@@ -298,3 +298,37 @@ TEST(Bitstream, StatusStrings) {
   for (int s = 0; s <= static_cast<int>(UvStatus::layout_unreachable_face); ++s)
     EXPECT_STRNE(to_string(static_cast<UvStatus>(s)), "unknown status");
 }
+
+TEST(Bitstream, DecodeUvsReportsLayoutErrors) {
+  // Two faces far apart in one patch: a valid stream, but the replay cannot
+  // reach the second face from the seed.
+  const TriMesh mesh = make_grid(4, 1);  // faces 0..7 along a strip
+  UvMap map;
+  map.atlas_width = map.atlas_height = 64;
+  map.patch_of_face = {0, 1, 1, 1, 1, 1, 1, 0};
+  map.patch_count = 2;
+  map.placements.resize(2);
+  const auto bytes = write_uvmap(map, mesh);
+  std::vector<float> uv;
+  EXPECT_EQ(decode_uvs(mesh, bytes, uv), UvStatus::layout_unreachable_face);
+  map.patch_of_face = {0, 0, 1, 1, 1, 1, 1, 1};
+  std::vector<float> uv2;
+  UvMap back;
+  ASSERT_EQ(decode_uvs(mesh, write_uvmap(map, mesh), uv2, &back), UvStatus::ok);
+  EXPECT_EQ(back, map);
+  EXPECT_EQ(uv2.size(), 48u);
+}
+
+TEST(Bitstream, InfoReadsHeaderWithoutMesh) {
+  Fixture fx;
+  UvStreamInfo info;
+  ASSERT_EQ(read_uvmap_info(fx.bytes, info), UvStatus::ok);
+  EXPECT_EQ(info.version_major, 1);
+  EXPECT_EQ(info.version_minor, 0);
+  EXPECT_EQ(info.face_count, 50u);
+  EXPECT_EQ(info.patch_count, fx.map.patch_count);
+  EXPECT_EQ(info.page_count, 2u);
+  EXPECT_EQ(info.atlas_width, 100u);
+  EXPECT_EQ(size_t{info.header_bytes} + info.partition_bytes + info.placement_bytes + 1, info.total_bytes);
+  EXPECT_EQ(info.total_bytes, fx.bytes.size());
+}
