@@ -232,6 +232,9 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     config.tile_height = 64;
     config.tile_depth = 1;
     config.attribute("maketx:filtername", "box");
+    config.attribute("maketx:hash", 0);             // no SHA-1 of a throwaway file
+    config.attribute("maketx:compute_average", 0);
+    config.attribute("compression", "none");        // staged for one read, skip zlib
     std::ostringstream err;
     if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, stage, temp.path,
                                           config, &err))
@@ -313,6 +316,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     opt.swrap = to_oiio(options.wrap_s);
     opt.twrap = to_oiio(options.wrap_t);
     opt.anisotropic = std::max(1, int(options.anisotropy));
+    opt.interpmode = options.bicubic ? OIIO::TextureOpt::InterpSmartBicubic : OIIO::TextureOpt::InterpBilinear;
     std::vector<double> my_sum(nch, 0.0);
     uint64_t my_cov = 0, my_gut = 0, my_look = 0;
     std::vector<int32_t> owner;

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <random>
 
@@ -263,12 +264,15 @@ TEST(Pack, ThousandsOfPatchesAreFast) {
   PackOptions opt;
   opt.texel_scale = 6.0;
   PackResult res;
+  const std::clock_t c0 = std::clock();  // CPU time: the box is shared, wall time is noisy
   ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+  const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
   EXPECT_EQ(res.report.overlap_texels, 0u);
   EXPECT_EQ(res.report.outside_texels, 0u);
-  std::printf("3000 patches: %.1f ms, fill %.3f, atlas %ux%u\n", res.report.seconds * 1e3,
-              res.report.fill, res.report.atlas_width, res.report.atlas_height);
-  EXPECT_LT(res.report.seconds, 3.0);
+  std::printf("3000 patches: %.1f ms wall, %.1f ms CPU, fill %.3f, atlas %ux%u\n",
+              res.report.seconds * 1e3, cpu * 1e3, res.report.fill, res.report.atlas_width,
+              res.report.atlas_height);
+  EXPECT_LT(cpu, 3.0);
 }
 
 }  // namespace
