@@ -6,6 +6,7 @@
 #include <cmath>
 #include <functional>
 
+#include "codec/tangents.h"
 #include "codec/warp.h"
 
 namespace gltfwarp {
@@ -291,6 +292,55 @@ TEST(Warp, TiltedNormalTurnsWithTheFrame) {
     EXPECT_NEAR(px[0], enc(0.6 * std::cos(a)), 2) << a;
     EXPECT_NEAR(px[1], enc(-0.6 * std::sin(a)), 2) << a;
     EXPECT_NEAR(px[2], enc(0.8), 2) << a;
+  }
+}
+
+TEST(Warp, NormalMapKeepsTheObjectSpaceNormalUnderAPatchTurn) {
+  // A plane (normal +z) with the usual glTF UVs; the new layout turns the
+  // patch by theta. Frames come from corner_tangents on the old and new UVs.
+  TriMesh mesh;
+  const int n = 4;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) mesh.positions.insert(mesh.positions.end(), {float(i) / n, float(j) / n, 0.0f});
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
+      mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
+    }
+  const OIIO::ImageBuf src = make_image(8, 8, 3, [&](int, int, uint8_t* p) {
+    p[0] = enc(0.6), p[1] = enc(0.0), p[2] = enc(0.8);
+  });
+  for (double theta : {0.0, 0.4, kPi / 2, 2.5, -1.0}) {
+    std::vector<float> old_uv, new_uv, normals;
+    for (uint32_t v : mesh.indices) {
+      const double x = mesh.positions[3 * v], y = mesh.positions[3 * v + 1];
+      old_uv.insert(old_uv.end(), {float(0.1 + 0.8 * x), float(0.1 + 0.8 * (1 - y))});
+      const double px = (x - 0.5) * 20, py = -(y - 0.5) * 20;
+      new_uv.insert(new_uv.end(), {float((16 + std::cos(theta) * px - std::sin(theta) * py) / 32),
+                                   float((16 + std::sin(theta) * px + std::cos(theta) * py) / 32)});
+      normals.insert(normals.end(), {0, 0, 1});
+    }
+    const std::vector<float> old_t = corner_tangents(mesh, normals, old_uv);
+    const std::vector<float> new_t = corner_tangents(mesh, normals, new_uv);
+    WarpPrimitive p;
+    p.source_uv = old_uv;
+    p.atlas_uv = new_uv;
+    p.normals = normals;
+    p.old_tangents = old_t;
+    p.new_tangents = new_t;
+    const WarpPrimitive prims[1] = {p};
+    WarpOptions opt;
+    opt.encoding = SlotEncoding::normal;
+    OIIO::ImageBuf out;
+    ASSERT_EQ(warp_texture(src, prims, 32, 32, opt, out), WarpStatus::ok);
+    const uint8_t* px = texel(out, 16, 16);
+    const double nx = px[0] / 255.0 * 2 - 1, ny = px[1] / 255.0 * 2 - 1, nz = px[2] / 255.0 * 2 - 1;
+    // Object space through the new frame: T, B = w * (N x T), N.
+    const double tx = new_t[0], ty = new_t[1], w = new_t[3];
+    const double bx = -w * ty, by = w * tx;
+    EXPECT_NEAR(nx * tx + ny * bx, 0.6, 0.02) << theta;
+    EXPECT_NEAR(nx * ty + ny * by, 0.0, 0.02) << theta;
+    EXPECT_NEAR(nz, 0.8, 0.02) << theta;
   }
 }
 
