@@ -7,6 +7,7 @@
 #include <random>
 
 #include "codec/pack.h"
+#include "codec/texel_density.h"
 
 namespace gltfwarp {
 namespace {
@@ -243,6 +244,33 @@ TEST(Pack, SeveralPages) {
   EXPECT_EQ(res.report.overlap_texels, 0u);
   EXPECT_EQ(res.report.outside_texels, 0u);
   check_footprints(prims, res, opt.gutter);
+}
+
+TEST(TexelDensity, MeasuresTexelsPerUnit) {
+  // Two unit right triangles (a unit square) mapped to half of a 512 x 256
+  // image: 256 x 256 texels per unit square, i.e. 256 texels per unit.
+  TriMesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 5, 0, 0, 7, 0, 0, 7, 2, 0};
+  m.indices = {0, 1, 2, 0, 2, 3, 4, 5, 6};
+  const std::vector<float> uv = {0, 0, 0.5f, 0, 0.5f, 1, 0, 0, 0.5f, 1, 0, 1,
+                                 // third face: 2 x 2 units on 64 x 64 texels: 32 per unit
+                                 0, 0, 0.125f, 0, 0.125f, 0.25f};
+  const std::vector<double> d = triangle_texel_density(m, uv, 512, 256);
+  ASSERT_EQ(d.size(), 3u);
+  EXPECT_NEAR(d[0], 256, 1e-3);
+  EXPECT_NEAR(d[1], 256, 1e-3);
+  EXPECT_NEAR(d[2], 32, 1e-3);
+  const DensityPrimitive p{&m, uv, 512, 256};
+  TexelDensityReport r = auto_texel_scale({&p, 1});
+  // Budget: 65536 + 2048 texels over 1 + 2 units of area.
+  EXPECT_NEAR(r.texel_scale, std::sqrt((65536.0 + 2048.0) / 3.0), 1e-6);
+  EXPECT_NEAR(r.max_density, 256, 1e-3);
+  TexelDensityOptions o;
+  o.mode = DensityMode::percentile;
+  o.percentile = 0.9;
+  EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 256, 1e-3);
+  o.percentile = 0.5;  // the 2-unit face holds 2/3 of the area
+  EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 32, 1e-3);
 }
 
 TEST(Pack, BadInput) {
