@@ -626,6 +626,17 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       return area;
     };
     for (uint32_t w : widths) try_width(w, options.method == PackMethod::bitmap);
+    // Small sets: other orders (by area, by height) often interlock better.
+    if (patches.size() <= options.multi_order_max_patches) {
+      for (int variant = 0; variant < 2; ++variant) {
+        std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
+          const Mask& ma = patches[a].masks[0];
+          const Mask& mb = patches[b].masks[0];
+          return variant == 0 ? ma.cells > mb.cells : std::min(ma.ch, ma.cw) > std::min(mb.ch, mb.cw);
+        });
+        for (uint32_t w : widths) try_width(w, options.method == PackMethod::bitmap);
+      }
+    }
     if (best_area == UINT64_MAX) {
       scale = double(float(scale * options.shrink_factor));
       ++result.report.shrink_retries;

@@ -50,6 +50,7 @@ struct PackOptions {
   SizeRounding rounding = SizeRounding::multiple_of_4;
   bool rotate_90 = true;            // also try 90, 180, 270 degree turns of each patch
   PackMethod method = PackMethod::bitmap;
+  uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
   bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
   uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights
                                     // above the lowest skyline point (bounds the work)
