@@ -49,12 +49,56 @@ UvStatus lower_neighbours(const TriMesh& mesh, std::vector<uint32_t>& lower) {
   return UvStatus::ok;
 }
 
+// Vertex -> incident faces, ascending face id (a face naming v twice is listed twice).
+struct VertexFaceList {
+  std::vector<uint32_t> offsets, faces;
+};
+VertexFaceList vertex_faces(const TriMesh& mesh) {  // indices already validated
+  VertexFaceList vf;
+  const uint32_t nv = mesh.vertex_count();
+  const size_t nc = size_t{mesh.face_count()} * 3;
+  vf.offsets.assign(size_t{nv} + 1, 0);
+  for (size_t c = 0; c < nc; ++c) ++vf.offsets[mesh.indices[c] + 1];
+  for (uint32_t v = 0; v < nv; ++v) vf.offsets[v + 1] += vf.offsets[v];
+  vf.faces.resize(nc);
+  std::vector<uint32_t> fill(vf.offsets.begin(), vf.offsets.end() - 1);
+  for (size_t c = 0; c < nc; ++c) vf.faces[fill[mesh.indices[c]]++] = static_cast<uint32_t>(c / 3);
+  return vf;
+}
+
+constexpr uint32_t kVertexScan = 16;  // faces examined per vertex
+constexpr uint32_t kMaxVcand = 8;     // second-tier candidates
+
+// Second-tier candidates of face f: distinct patches, not among cand[0..m), of
+// the faces g < f that share a vertex with f; per vertex of f (k order), the
+// kVertexScan highest such g, descending. At most kMaxVcand.
+uint32_t vertex_candidates(const VertexFaceList& vf, const uint32_t* tri, uint32_t f,
+                           const uint32_t* patch_of_face, const uint32_t* cand, uint32_t m,
+                           uint32_t vcand[kMaxVcand]) {
+  uint32_t vm = 0;
+  for (uint32_t k = 0; k < 3; ++k) {
+    const uint32_t* b = vf.faces.data() + vf.offsets[tri[k]];
+    const uint32_t* e = vf.faces.data() + vf.offsets[tri[k] + 1];
+    const uint32_t* it = std::lower_bound(b, e, f);
+    for (uint32_t n = 0; it != b && n < kVertexScan; ++n) {
+      const uint32_t p = patch_of_face[*--it];
+      if (std::find(cand, cand + m, p) != cand + m || std::find(vcand, vcand + vm, p) != vcand + vm)
+        continue;
+      vcand[vm++] = p;
+      if (vm == kMaxVcand) return vm;
+    }
+  }
+  return vm;
+}
+
 // ---- partition model (shared by writer and reader) ------------------------------
 struct PartitionModel {
   rc::BitModel hit[3][3][3];  // [m-1][seam context][lower neighbours - 1]
   rc::BitModel pick2[3];     // m == 2: second candidate?
   rc::BitModel pick3[2][3];  // m == 3: not first? then third?
-  rc::BitModel fresh[2];     // [m > 0]: new patch (1) or explicit earlier id (0)
+  rc::BitModel fresh[2];     // [m > 0]: new patch (1) or an earlier one (0)
+  rc::BitModel vhit;         // the earlier patch is a second-tier candidate
+  rc::BitModel vidx[kMaxVcand - 1];  // truncated unary index into the second tier
 };
 
 // Candidate patches of face f: distinct patches of its lower neighbours, most
@@ -83,6 +127,17 @@ uint32_t candidates(const uint32_t* lower3, const uint32_t* patch_of_face, const
   *ctx = std::min(seams, 2u);
   *nlower = n;
   return m;
+}
+
+// After face f is decoded: f is a seam face unless it took the single
+// candidate; and every lower neighbour in another patch becomes a seam face.
+void mark_seams(const uint32_t* lower3, const uint32_t* patch_of_face, uint32_t f, uint32_t m, bool hit,
+                uint8_t* seam) {
+  seam[f] = (m != 1 || !hit) ? 1 : 0;
+  for (uint32_t k = 0; k < 3; ++k) {
+    const uint32_t g = lower3[k];
+    if (g != kNone && patch_of_face[g] != patch_of_face[f]) seam[g] = 1;
+  }
 }
 
 // ---- little-endian byte I/O ------------------------------------------------------
@@ -244,6 +299,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   const uint32_t nf = mesh.face_count();
   std::vector<uint32_t> lower;
   GW_TRY(lower_neighbours(mesh, lower));
+  const VertexFaceList vf = vertex_faces(mesh);
 
   // Partition.
   rc::Encoder pe;
@@ -270,12 +326,25 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
       if (!hit) {
         const bool is_new = p == created;
         if (created < map.patch_count) pe.bit(pm.fresh[m > 0], is_new ? 1 : 0);
-        if (is_new)
+        if (is_new) {
           ++created;
-        else
-          pe.uniform32(p, created);
+        } else {
+          uint32_t vcand[kMaxVcand];
+          const uint32_t vm = vertex_candidates(vf, &mesh.indices[3 * f], f, map.patch_of_face.data(), cand, m, vcand);
+          uint32_t vi = 0;
+          while (vi < vm && vcand[vi] != p) ++vi;
+          if (vm > 0) pe.bit(pm.vhit, vi < vm ? 1 : 0);
+          if (vi < vm) {
+            for (uint32_t i = 0; i + 1 < vm; ++i) {
+              pe.bit(pm.vidx[i], vi > i ? 1 : 0);
+              if (vi == i) break;
+            }
+          } else {
+            pe.uniform32(p, created);
+          }
+        }
       }
-      seam[f] = (m != 1 || !hit) ? 1 : 0;
+      mark_seams(&lower[3 * f], map.patch_of_face.data(), f, m, hit, seam.data());
     }
   }
   const std::vector<uint8_t> part = pe.finish();
@@ -354,6 +423,7 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
   const uint32_t nf = info.face_count;
   std::vector<uint32_t> lower;
   GW_TRY(lower_neighbours(mesh, lower));
+  const VertexFaceList vf = vertex_faces(mesh);
   out.tau = info.tau;
   out.texel_scale = info.texel_scale;
   out.atlas_width = info.atlas_width;
@@ -384,14 +454,23 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
       }
       if (!hit) {
         const bool is_new = created < out.patch_count && pd.bit(pm.fresh[m > 0]) == 1;
-        if (is_new)
+        if (is_new) {
           p = created++;
-        else
-          p = pd.uniform32(created);
+        } else {
+          uint32_t vcand[kMaxVcand];
+          const uint32_t vm = vertex_candidates(vf, &mesh.indices[3 * f], f, out.patch_of_face.data(), cand, m, vcand);
+          if (vm > 0 && pd.bit(pm.vhit) == 1) {
+            uint32_t vi = 0;
+            while (vi + 1 < vm && pd.bit(pm.vidx[vi]) == 1) ++vi;
+            p = vcand[vi];
+          } else {
+            p = pd.uniform32(created);
+          }
+        }
       }
       if (pd.failed()) return rc_status(pd);
       out.patch_of_face[f] = p;
-      seam[f] = (m != 1 || !hit) ? 1 : 0;
+      mark_seams(&lower[3 * f], out.patch_of_face.data(), f, m, hit, seam.data());
     }
     if (created != out.patch_count) return UvStatus::bad_count;
     GW_TRY(rc_status(pd));
