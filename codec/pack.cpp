@@ -40,6 +40,7 @@ struct PatchInfo {
   uint32_t prim = 0, patch = 0;
   std::vector<uint32_t> faces;
   uint32_t base_code = 0;
+  int32_t scale_step = 0;  // per-patch scale code (format's patch_scale)
   Mask masks[4];
   int mask_count = 0;
   uint64_t order_key = 0;
@@ -499,6 +500,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     const uint32_t nf = pr.mesh->face_count();
     if (pr.patch_of_face.size() != nf || pr.corner_xy.size() != size_t(6) * nf)
       return PackStatus::bad_input;
+    if (!pr.face_density.empty() && pr.face_density.size() != nf) return PackStatus::bad_input;
     base[i] = uint32_t(patches.size());
     for (uint32_t p = 0; p < pr.patch_count; ++p) {
       PatchInfo info;
@@ -537,6 +539,25 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (area < best) best = area, p.base_code = code;
     }
   }
+  // Per-patch scale: each patch keeps its own source density (texel-count
+  // preserving mean over its faces), quantized to the format's scale steps.
+  for (PatchInfo& p : patches) {
+    const PackPrimitive& pr = prims[p.prim];
+    if (pr.face_density.empty() || !options.per_patch_scale) continue;
+    double wsum = 0, dsum = 0;
+    for (uint32_t f : p.faces) {
+      const double* c = &pr.corner_xy[6 * size_t(f)];
+      const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+      const double d = pr.face_density[f];
+      if (!(a > 0) || !std::isfinite(d)) continue;
+      wsum += a;
+      dsum += a * d * d;
+    }
+    if (!(wsum > 0)) continue;
+    const double ratio = std::sqrt(dsum / wsum) / options.texel_scale;
+    const int32_t step = ratio > 0 ? scale_step_for(ratio) : kMinScaleStep;
+    p.scale_step = std::clamp(step, options.min_scale_step, options.max_scale_step);
+  }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));
   std::vector<double> q;
@@ -560,7 +581,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
           y0 = std::min(y0, c[2 * v + 1]), y1 = std::max(y1, c[2 * v + 1]);
         }
       }
-      texel_area += area * scale * scale + (x1 - x0 + y1 - y0) * scale * (2 * r + 1) + 4.0 * r * r;
+      const double ps = scale * pscale(p.scale_step);
+      texel_area += area * ps * ps + (x1 - x0 + y1 - y0) * ps * (2 * r + 1) + 4.0 * r * r;
     }
     const double cap = double(max_size) * max_size * options.max_pages;
     if (texel_area > 0.9 * cap) {
@@ -578,7 +600,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       p.mask_count = options.rotate_90 ? 4 : 1;
       for (int k = 0; k < p.mask_count; ++k)
         build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
-                   scale, r, cell, options.true_shapes, p.masks[k], q, bits, tmp);
+                   scale * pscale(p.scale_step), r, cell, options.true_shapes, p.masks[k], q, bits, tmp);
       cell_area += p.masks[0].cells;
       p.order_key = uint64_t(std::max(p.masks[0].ch, p.masks[0].cw)) << 32 | p.masks[0].cells;
     }
@@ -663,7 +685,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       out.x = pl.cx * cell - mk.bx0;
       out.y = pl.cy * cell - mk.by0;
       out.page = uint32_t(pl.page);
-      out.scale_step = 0;
+      out.scale_step = p.scale_step;
     }
     PackReport& rep = result.report;
     rep.atlas_width = best_w;

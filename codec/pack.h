@@ -30,6 +30,10 @@ struct PackPrimitive {
   std::span<const uint32_t> patch_of_face;  // one per face
   uint32_t patch_count = 0;
   std::span<const double> corner_xy;  // 2 per corner (6 per face), model units
+  // Optional: source texels per model unit of each face (triangle_texel_density).
+  // With PackOptions::per_patch_scale, each patch gets a scale_step that keeps
+  // its own source density; texel_scale is then the reference the steps scale.
+  std::span<const double> face_density;
 };
 
 enum class SizeRounding : uint8_t {
@@ -50,6 +54,9 @@ struct PackOptions {
   SizeRounding rounding = SizeRounding::multiple_of_4;
   bool rotate_90 = true;            // also try 90, 180, 270 degree turns of each patch
   PackMethod method = PackMethod::bitmap;
+  bool per_patch_scale = true;      // use PackPrimitive::face_density when given
+  int32_t min_scale_step = -16;     // per-patch scale range, in format steps of 2^(1/4):
+  int32_t max_scale_step = 4;       // 1/16 .. 2 times texel_scale
   uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
   bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
   uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights

@@ -19,7 +19,7 @@ struct GenPrim {
   std::vector<double> corner_xy;
   uint32_t patch_count = 0;
   PackPrimitive view() const {
-    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy};
+    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy, {}};
   }
 };
 
@@ -271,6 +271,28 @@ TEST(TexelDensity, MeasuresTexelsPerUnit) {
   EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 256, 1e-3);
   o.percentile = 0.5;  // the 2-unit face holds 2/3 of the area
   EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 32, 1e-3);
+}
+
+TEST(Pack, PerPatchScaleKeepsEachPatchsDensity) {
+  const GenPrim a = generate(40, 8);
+  // Source density: 8 texels per unit on even patches, 2 on odd ones.
+  std::vector<double> density(a.patch_of_face.size());
+  for (size_t f = 0; f < density.size(); ++f) density[f] = a.patch_of_face[f] % 2 ? 2.0 : 8.0;
+  PackPrimitive prim = a.view();
+  prim.face_density = density;
+  PackOptions opt;
+  opt.texel_scale = 4.0;
+  PackResult res;
+  ASSERT_EQ(pack_atlas({&prim, 1}, opt, res), PackStatus::ok);
+  EXPECT_EQ(res.report.overlap_texels, 0u);
+  EXPECT_EQ(res.report.outside_texels, 0u);
+  for (uint32_t p = 0; p < 40; ++p)  // 2^(step/4) = density / 4
+    EXPECT_EQ(res.maps[0].placements[p].scale_step, p % 2 ? -4 : 4) << p;
+  check_footprints({&prim, 1}, res, opt.gutter);
+  PackResult flat;
+  opt.per_patch_scale = false;
+  ASSERT_EQ(pack_atlas({&prim, 1}, opt, flat), PackStatus::ok);
+  for (const PatchPlacement& pl : flat.maps[0].placements) EXPECT_EQ(pl.scale_step, 0);
 }
 
 TEST(Pack, BadInput) {
