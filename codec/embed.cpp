@@ -617,6 +617,8 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
   std::vector<double> cone(size_t{np} * 4);
   for (uint32_t p = 0; p < np; ++p) patch_cone(g.mesh(), patches[p], &cone[4 * size_t{p}]);
   std::set<std::array<uint32_t, 4>> failed;
+  // Trials regrow whole unions; a budget in faces keeps the pass linear.
+  double budget = opt.merge_budget * double(g.face_patch.size());
   std::vector<double> saved;
   uint32_t next_label = 0;
   for (uint32_t f : g.region) next_label = std::max(next_label, f == kNone ? 0 : f + 1);
@@ -649,6 +651,7 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
     for (const Pair& pr : pairs) {
       if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
       // A pair that failed is not retried until one side has changed.
+      if (budget < double(patches[pr.a].size() + patches[pr.b].size())) return;
       const std::array<uint32_t, 4> memo = {pr.a, version[pr.a], pr.b, version[pr.b]};
       if (failed.count(memo)) continue;
       // A union whose normals spread too far cannot lie flat within tau
@@ -681,6 +684,7 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
         g.face_patch[f] = kNone;
         seed = std::min(seed, f);
       }
+      budget -= double(unite.size());
       bool ok = g.grow(seed, pr.a, faces, verts, true) && faces.size() == unite.size();
       double fu = 0;
       if (ok) {

@@ -24,10 +24,11 @@ struct EmbedOptions {
   int place_attempts = 3;               // retries of a candidate after dropping its failing faces
   double region_cone_deg = 55.0;        // compact: max angle between a face normal and its region's mean normal
   int lloyd_iterations = 4;             // compact: re-seed/flood passes that make regions Voronoi-like
-  double normal_weight = 4.0;           // compact: flood cost factor (1 + w (1 - n.n_seed))
+  double normal_weight = 2.0;           // compact: flood cost factor (1 + w (1 - n.n_seed))
   bool merge = true;                    // compact: merge adjacent patches while the union still replays within tau
+  double merge_budget = 6.0;            // compact: merge trials may regrow at most this many x face count faces
   int merge_rounds = 8;                 // compact: passes over adjacent patch pairs
-  double merge_min_fill = 0.6;          // compact: a merge must keep area/min-rect >= this ...
+  double merge_min_fill = 0.55;         // compact: a merge must keep area/min-rect >= this ...
   double merge_max_cone_deg = 140.0;    // compact: skip merge trials whose normals spread wider
   uint32_t merge_small_faces = 12;      // ... unless the smaller part has at most this many faces
 };
