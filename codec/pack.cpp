@@ -539,24 +539,33 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (area < best) best = area, p.base_code = code;
     }
   }
-  // Per-patch scale: each patch keeps its own source density (texel-count
-  // preserving mean over its faces), quantized to the format's scale steps.
-  for (PatchInfo& p : patches) {
+  // Per-patch scale: redistribute the texel budget by the source's own
+  // density. A patch gets (its density / the set's density) times
+  // texel_scale, both as texel-count preserving (RMS) means weighted by
+  // layout area, quantized to the format's scale steps.
+  std::vector<double> patch_w(patches.size(), 0), patch_d2(patches.size(), 0);
+  double all_w = 0, all_d2 = 0;
+  for (size_t pi = 0; pi < patches.size(); ++pi) {
+    const PatchInfo& p = patches[pi];
     const PackPrimitive& pr = prims[p.prim];
     if (pr.face_density.empty() || !options.per_patch_scale) continue;
-    double wsum = 0, dsum = 0;
     for (uint32_t f : p.faces) {
       const double* c = &pr.corner_xy[6 * size_t(f)];
       const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
       const double d = pr.face_density[f];
       if (!(a > 0) || !std::isfinite(d)) continue;
-      wsum += a;
-      dsum += a * d * d;
+      patch_w[pi] += a, patch_d2[pi] += a * d * d;
     }
-    if (!(wsum > 0)) continue;
-    const double ratio = std::sqrt(dsum / wsum) / options.texel_scale;
-    const int32_t step = ratio > 0 ? scale_step_for(ratio) : kMinScaleStep;
-    p.scale_step = std::clamp(step, options.min_scale_step, options.max_scale_step);
+    all_w += patch_w[pi], all_d2 += patch_d2[pi];
+  }
+  if (all_w > 0 && all_d2 > 0) {
+    const double global = std::sqrt(all_d2 / all_w);
+    for (size_t pi = 0; pi < patches.size(); ++pi) {
+      if (!(patch_w[pi] > 0)) continue;
+      const double ratio = std::sqrt(patch_d2[pi] / patch_w[pi]) / global;
+      const int32_t step = ratio > 0 ? scale_step_for(ratio) : kMinScaleStep;
+      patches[pi].scale_step = std::clamp(step, options.min_scale_step, options.max_scale_step);
+    }
   }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));

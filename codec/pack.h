@@ -31,8 +31,9 @@ struct PackPrimitive {
   uint32_t patch_count = 0;
   std::span<const double> corner_xy;  // 2 per corner (6 per face), model units
   // Optional: source texels per model unit of each face (triangle_texel_density).
-  // With PackOptions::per_patch_scale, each patch gets a scale_step that keeps
-  // its own source density; texel_scale is then the reference the steps scale.
+  // With PackOptions::per_patch_scale, each patch's scale_step is the ratio of
+  // its source density to the whole set's (RMS, area-weighted): the budget
+  // texel_scale sets is redistributed to where the source had its detail.
   std::span<const double> face_density;
 };
 

@@ -29,6 +29,48 @@ double face_area_texels(std::span<const float> uv, uint32_t f, double w, double 
   return 0.5 * std::abs(ux * vy - uy * vx);
 }
 
+// Distinct texels of a w x h image whose centres the UV triangles cover,
+// with coordinates wrapped into the image (REPEAT). Large images are
+// counted on a coarser grid (at most 4096 x 4096 cells), scaled back.
+double used_texel_count(std::span<const DensityPrimitive* const> prims, uint32_t w, uint32_t h) {
+  if (w == 0 || h == 0) return 0;
+  uint32_t f = 1;
+  while (w / f > 4096 || h / f > 4096) f *= 2;
+  const uint32_t gw = (w + f - 1) / f, gh = (h + f - 1) / f;
+  std::vector<uint8_t> used(size_t(gw) * gh, 0);
+  uint64_t count = 0;
+  for (const DensityPrimitive* p : prims) {
+    const uint32_t nf = p->mesh->face_count();
+    for (uint32_t t = 0; t < nf; ++t) {
+      double x[3], y[3];
+      for (int k = 0; k < 3; ++k) {
+        x[k] = double(p->source_uv[6 * size_t(t) + 2 * k]) * gw;
+        y[k] = double(p->source_uv[6 * size_t(t) + 2 * k + 1]) * gh;
+      }
+      double area = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+      if (!(std::abs(area) > 0) || !std::isfinite(area)) continue;
+      if (area < 0) std::swap(x[1], x[2]), std::swap(y[1], y[2]);
+      const double x0 = std::min({x[0], x[1], x[2]}), x1 = std::max({x[0], x[1], x[2]});
+      const double y0 = std::min({y[0], y[1], y[2]}), y1 = std::max({y[0], y[1], y[2]});
+      if (x1 - x0 > 16.0 * gw || y1 - y0 > 16.0 * gh) continue;  // absurd spans: skip
+      for (long long j = (long long)std::ceil(y0 - 0.5); j <= (long long)std::floor(y1 - 0.5); ++j)
+        for (long long i = (long long)std::ceil(x0 - 0.5); i <= (long long)std::floor(x1 - 0.5); ++i) {
+          const double cx = double(i) + 0.5, cy = double(j) + 0.5;
+          bool in = true;
+          for (int e = 0; e < 3 && in; ++e) {
+            const int n = (e + 1) % 3;
+            in = (x[n] - x[e]) * (cy - y[e]) - (y[n] - y[e]) * (cx - x[e]) >= 0;
+          }
+          if (!in) continue;
+          const long long wi = ((i % gw) + gw) % gw, wj = ((j % gh) + gh) % gh;
+          uint8_t& u = used[size_t(wj) * gw + size_t(wi)];
+          if (!u) u = 1, ++count;
+        }
+    }
+  }
+  return double(count) * f * f;
+}
+
 }  // namespace
 
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
@@ -88,8 +130,26 @@ TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,
   };
   r.p50_density = pct(0.5);
   r.p90_density = pct(0.9);
+  // Distinct texels used, per image size.
+  {
+    std::vector<std::pair<uint64_t, const DensityPrimitive*>> by_size;
+    for (const DensityPrimitive& p : prims)
+      if (p.mesh && p.source_uv.size() >= size_t(6) * p.mesh->face_count())
+        by_size.push_back({uint64_t(p.image_width) << 32 | p.image_height, &p});
+    std::sort(by_size.begin(), by_size.end());
+    for (size_t i = 0; i < by_size.size();) {
+      size_t j = i;
+      std::vector<const DensityPrimitive*> group;
+      while (j < by_size.size() && by_size[j].first == by_size[i].first) group.push_back(by_size[j++].second);
+      r.used_texels += used_texel_count(group, group[0]->image_width, group[0]->image_height);
+      i = j;
+    }
+  }
   double scale = 0;
   switch (options.mode) {
+    case DensityMode::preserve_used_texels:
+      scale = std::sqrt(r.used_texels / r.surface_area);
+      break;
     case DensityMode::preserve_texel_count:
       // The layout is near-isometric, so an atlas at scale s spends about
       // s^2 * surface_area texels on the surface: match the source's budget.

@@ -25,13 +25,16 @@ struct DensityPrimitive {
 };
 
 enum class DensityMode : uint8_t {
-  preserve_texel_count,  // scale whose atlas holds as many texels as the source map used
+  preserve_used_texels,  // scale whose atlas holds as many texels as the distinct source
+                         // texels the UV map touches (overlapping/mirrored charts count once)
+  preserve_texel_count,  // scale whose atlas holds as many texels as the source triangles
+                         // cover (overlapping charts count once per use: more detail, more bytes)
   percentile,            // area-weighted percentile of per-triangle density (keeps the detail
                          // where the artist put it, costs texels elsewhere)
 };
 
 struct TexelDensityOptions {
-  DensityMode mode = DensityMode::preserve_texel_count;  // default: same texel budget as source
+  DensityMode mode = DensityMode::preserve_used_texels;  // default: same texel budget as source
   double percentile = 0.9;                               // for DensityMode::percentile, in (0, 1]
   double min_scale = 1e-9;                               // floor for the result (texels per unit)
 };
@@ -43,6 +46,9 @@ struct TexelDensityReport {
   double p90_density = 0;     // area-weighted 90th percentile
   double max_density = 0;
   double source_texels = 0;   // sum of triangles' texel-space areas (overlaps count twice)
+  double used_texels = 0;     // distinct source texels whose centre a UV triangle covers
+                              // (wrapped into the image, per image size; summed over primitives
+                              // that sample different image sizes)
   double surface_area = 0;    // sum of triangles' 3D areas
   uint32_t triangles = 0;     // triangles with non-zero 3D area
   uint32_t degenerate_uv = 0; // triangles with zero texel-space area

@@ -261,11 +261,15 @@ TEST(TexelDensity, MeasuresTexelsPerUnit) {
   EXPECT_NEAR(d[1], 256, 1e-3);
   EXPECT_NEAR(d[2], 32, 1e-3);
   const DensityPrimitive p{&m, uv, 512, 256};
+  // Default budget: the distinct texels used (the third face reuses texels of
+  // the first two): 65536 over 1 + 2 units of area.
   TexelDensityReport r = auto_texel_scale({&p, 1});
-  // Budget: 65536 + 2048 texels over 1 + 2 units of area.
-  EXPECT_NEAR(r.texel_scale, std::sqrt((65536.0 + 2048.0) / 3.0), 1e-6);
+  EXPECT_NEAR(r.used_texels, 65536, 300);
+  EXPECT_NEAR(r.texel_scale, std::sqrt(65536.0 / 3.0), 0.5);
   EXPECT_NEAR(r.max_density, 256, 1e-3);
   TexelDensityOptions o;
+  o.mode = DensityMode::preserve_texel_count;  // every use counts: 65536 + 2048 texels
+  EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, std::sqrt((65536.0 + 2048.0) / 3.0), 1e-6);
   o.mode = DensityMode::percentile;
   o.percentile = 0.9;
   EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 256, 1e-3);
@@ -286,8 +290,13 @@ TEST(Pack, PerPatchScaleKeepsEachPatchsDensity) {
   ASSERT_EQ(pack_atlas({&prim, 1}, opt, res), PackStatus::ok);
   EXPECT_EQ(res.report.overlap_texels, 0u);
   EXPECT_EQ(res.report.outside_texels, 0u);
-  for (uint32_t p = 0; p < 40; ++p)  // 2^(step/4) = density / 4
-    EXPECT_EQ(res.maps[0].placements[p].scale_step, p % 2 ? -4 : 4) << p;
+  // Relative to the set's RMS density: the 8s get 2^(s/4) ~ 8 / rms, the 2s
+  // four steps (a factor 4 in density) less.
+  int32_t even = res.maps[0].placements[0].scale_step, odd = res.maps[0].placements[1].scale_step;
+  EXPECT_GT(even, 0);
+  EXPECT_LT(odd, 0);
+  EXPECT_EQ(even - odd, 8);
+  for (uint32_t p = 0; p < 40; ++p) EXPECT_EQ(res.maps[0].placements[p].scale_step, p % 2 ? odd : even) << p;
   check_footprints({&prim, 1}, res, opt.gutter);
   PackResult flat;
   opt.per_patch_scale = false;
