@@ -15,6 +15,7 @@ Runner add_encode(CLI::App& app);
 Runner add_decode(CLI::App& app);
 Runner add_info(CLI::App& app);
 Runner add_sample(CLI::App& app);
+Runner add_compare(CLI::App& app);
 
 // One line on stderr, "gltf-warp: <message>"; returns the exit code to use.
 int fail(const std::string& message, int code = 1);

@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
   add("decode", "Decode: rebuild TEXCOORD_0 and write a standard glTF 2.0 file", add_decode);
   add("info", "Per-primitive sizes, patches and bitstream sections of a glTF file", add_info);
   add("sample", "Write a generated textured sample model (.glb or .gltf)", add_sample);
+  add("compare", "Surface colour PSNR between a scene and its decoded round trip", add_compare);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -95,10 +95,20 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     double scale = options.texel_density;
     if (!(scale > 0)) scale = auto_texel_scale(dens).texel_scale;
 
+    // Per-face source density lets the packer give each patch its own scale
+    // step, so small, densely textured parts (eyes, labels) keep their detail.
+    std::vector<std::vector<double>> density(group.members.size());
     std::vector<PackPrimitive> pp;
-    for (size_t m : group.members) {
-      const auto& ip = plan.prims[m];
-      pp.push_back({&ip.tri, ip.patch_of_face, ip.patch_count, ip.corner_xy});
+    for (size_t k = 0; k < group.members.size(); ++k) {
+      const auto& ip = plan.prims[group.members[k]];
+      density[k] = triangle_texel_density(ip.tri, ip.source_uv, dens[k].image_width, dens[k].image_height);
+      PackPrimitive p;
+      p.mesh = &ip.tri;
+      p.patch_of_face = ip.patch_of_face;
+      p.patch_count = ip.patch_count;
+      p.corner_xy = ip.corner_xy;
+      p.face_density = density[k];
+      pp.push_back(p);
     }
     PackOptions po;
     po.texel_scale = scale;
