@@ -37,7 +37,7 @@ TriMesh golden_mesh() {
   return m;
 }
 
-// The golden map: 4 x 4-quad blocks (and an odd one-face patch), three pages,
+// The golden map: 4 x 4-quad blocks (and odd one-face and one-quad patches), three pages,
 // rotations and per-patch scales, so every field of 1.0 is exercised.
 UvMap golden_map(const TriMesh& m) {
   UvMap map;
@@ -52,11 +52,17 @@ UvMap golden_map(const TriMesh& m) {
     map.patch_of_face[f] = (j / 4) * 3 + i / 4;
   }
   map.patch_of_face[2 * (12 * 5 + 6) + 1] = 100;  // one lone triangle in the middle of a block
+  // Small patches that cut blocks apart in face order: block 2's quad (11, 0)
+  // then follows only patch 103 and needs an explicit id; row 0's first
+  // triangles and quad (7, 1) find their patch through a shared vertex.
+  map.patch_of_face[2 * 7] = map.patch_of_face[2 * 7 + 1] = 101;
+  map.patch_of_face[2 * (12 + 6)] = map.patch_of_face[2 * (12 + 6) + 1] = 102;
+  for (uint32_t q : {9u, 10u}) map.patch_of_face[2 * q] = map.patch_of_face[2 * q + 1] = 103;
   map.patch_count = testutil::renumber_by_lowest_face(map.patch_of_face);
   for (uint32_t p = 0; p < map.patch_count; ++p) {
     PatchPlacement pl;
     pl.rotation = (p * 37u) % kRotationSteps;
-    pl.x = static_cast<int32_t>(100 + 130 * p);
+    pl.x = static_cast<int32_t>(100 + 90 * p);
     pl.y = static_cast<int32_t>(60 + 50 * (p % 7));
     pl.page = p % 3;
     pl.scale_step = static_cast<int32_t>(p % 5) - 2;

@@ -1,0 +1,454 @@
+#!/usr/bin/env python3
+"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.0,
+written from spec/README.md alone (not from the C++). It decodes the golden
+stream of tests/golden/uvmap_v1_0.h on the golden mesh and checks the FNV-1a
+hash of the decoded UVs, which shows that the spec is complete enough for a
+second implementation to reproduce the UVs bit for bit.
+
+Usage: python3 spec/reference_decoder.py   (exit status 0 on success)
+Python floats are IEEE binary64 with correctly rounded + - * / and math.sqrt,
+as section 2.2 requires.
+"""
+import math
+import re
+import struct
+import sys
+from pathlib import Path
+
+
+class Invalid(Exception):
+    pass
+
+
+def f32(v):
+    return struct.unpack("<f", struct.pack("<f", v))[0]
+
+
+# ---- section 5: range decoder ------------------------------------------------
+M32 = 0xFFFFFFFF
+
+
+class Ctx:
+    def __init__(self):
+        self.p0, self.count = 32768, 0
+
+
+class RangeDecoder:
+    def __init__(self, data):
+        self.b, self.pos, self.range, self.code = data, 0, M32, 0
+        for _ in range(4):
+            self.code = ((self.code << 8) | self.next_byte()) & M32
+
+    def next_byte(self):
+        p = self.pos
+        self.pos += 1
+        if self.pos > len(self.b) + 4:
+            raise Invalid("truncated")
+        return self.b[p] if p < len(self.b) else 0
+
+    def renorm(self):
+        while self.range < (1 << 24):
+            self.range = (self.range << 8) & M32
+            self.code = ((self.code << 8) | self.next_byte()) & M32
+
+    def _bit(self, p0):
+        bound = (self.range >> 16) * p0
+        if self.code < bound:
+            self.range, bit = bound, 0
+        else:
+            self.code -= bound
+            self.range -= bound
+            bit = 1
+        return bit
+
+    def bit(self, ctx):
+        bit = self._bit(ctx.p0)
+        shift = (ctx.count + 1).bit_length()
+        p = ctx.p0 + ((65536 - ctx.p0) >> shift) if bit == 0 else ctx.p0 - (ctx.p0 >> shift)
+        ctx.p0 = min(max(p, 32), 65504)
+        ctx.count = min(ctx.count + 1, 63)
+        self.renorm()
+        return bit
+
+    def equiprobable(self):
+        bit = self._bit(32768)
+        self.renorm()
+        return bit
+
+    def uniform(self, n):
+        if n == 1:
+            return 0
+        r = self.range // n
+        q = self.code // r
+        if q >= n:
+            raise Invalid("bad_value")
+        self.code -= q * r
+        self.range = r
+        self.renorm()
+        return q
+
+    def uniform32(self, n):
+        if n <= 65536:
+            return self.uniform(n)
+        hn = ((n - 1) >> 16) + 1
+        hi = self.uniform(hn)
+        ln = ((n - 1) & 0xFFFF) + 1 if hi == hn - 1 else 65536
+        return (hi << 16) | self.uniform(ln)
+
+    def exp_golomb(self, pfx):
+        k = 0
+        while k < 32 and self.bit(pfx[min(k, 15)]) == 1:
+            k += 1
+        w = 1
+        for _ in range(k):
+            w = (w << 1) | self.equiprobable()
+        if w - 1 >= 1 << 32:
+            raise Invalid("bad_value")
+        return w - 1
+
+    def finish(self):
+        if self.pos < len(self.b):
+            raise Invalid("trailing_bytes")
+
+
+# ---- section 4 / 6.1: header ---------------------------------------------------
+class Reader:
+    def __init__(self, b):
+        self.b, self.pos = b, 0
+
+    def take(self, n):
+        if self.pos + n > len(self.b):
+            raise Invalid("truncated")
+        out = self.b[self.pos:self.pos + n]
+        self.pos += n
+        return out
+
+    def varint(self):
+        x = 0
+        for i in range(5):
+            byte = self.take(1)[0]
+            x |= (byte & 0x7F) << (7 * i)
+            if not byte & 0x80:
+                if x > M32 or (i > 0 and byte == 0):
+                    raise Invalid("bad_value")
+                return x
+        raise Invalid("bad_value")
+
+
+def decode(stream, positions, indices):
+    F, V = len(indices) // 3, len(positions) // 3
+    r = Reader(stream)
+    if len(stream) < 4:
+        raise Invalid("truncated" if stream == b"GWUV"[:len(stream)] else "bad_magic")
+    if r.take(4) != b"GWUV":
+        raise Invalid("bad_magic")
+    major, minor, flags = r.take(1)[0], r.take(1)[0], r.take(1)[0]
+    if major != 1 or minor > 0:
+        raise Invalid("unsupported_version")
+    if flags & ~3:
+        raise Invalid("reserved_bits")
+    face_count = r.varint()
+    tau = struct.unpack("<f", r.take(4))[0]
+    texel_scale = struct.unpack("<f", r.take(4))[0]
+    W, H, pages, P = r.varint(), r.varint(), r.varint(), r.varint()
+    for v in (tau, texel_scale):
+        if not math.isfinite(v) or not v > 0:
+            raise Invalid("bad_value")
+    if not (1 <= W <= 65536 and 1 <= H <= 65536 and 1 <= pages <= 65536):
+        raise Invalid("bad_count")
+    if (P != 0) if face_count == 0 else not (1 <= P <= face_count):
+        raise Invalid("bad_count")
+    if face_count != F:
+        raise Invalid("face_count_mismatch")
+    part = r.take(r.varint())
+    place = r.take(r.varint())
+    if r.pos != len(stream):
+        raise Invalid("trailing_bytes")
+    if any(i >= V for i in indices):
+        raise Invalid("bad_mesh")
+
+    # ---- 6.2 lower neighbours
+    def key(a, b):
+        return (min(a, b), max(a, b))
+    first = {}
+    for f in range(F):
+        for k in range(3):
+            first.setdefault(key(indices[3 * f + k], indices[3 * f + (k + 1) % 3]), f)
+    lower = [[None] * 3 for _ in range(F)]
+    for f in range(F):
+        for k in range(3):
+            g = first[key(indices[3 * f + k], indices[3 * f + (k + 1) % 3])]
+            lower[f][k] = g if g < f else None
+    vfaces = [[] for _ in range(V)]
+    for c, v in enumerate(indices):
+        vfaces[v].append(c // 3)
+
+    # ---- 6.3 partition
+    d = RangeDecoder(part)
+    HIT = [[[Ctx() for _ in range(3)] for _ in range(3)] for _ in range(3)]
+    PICK2, PICK3A, PICK3B = [Ctx() for _ in range(3)], [Ctx() for _ in range(3)], [Ctx() for _ in range(3)]
+    FRESH, VHIT, VIDX = [Ctx(), Ctx()], Ctx(), [Ctx() for _ in range(7)]
+    patch, seam = [0] * F, [0] * F
+    created = 1 if F > 0 else 0
+    if F:
+        seam[0] = 1
+    for f in range(1, F):
+        cand, count = [], []
+        n = s = 0
+        for g in lower[f]:
+            if g is None:
+                continue
+            n += 1
+            s += seam[g]
+            if patch[g] in cand:
+                count[cand.index(patch[g])] += 1
+            else:
+                cand.append(patch[g])
+                count.append(1)
+        order = sorted(range(len(cand)), key=lambda i: -count[i])  # stable
+        cand = [cand[i] for i in order]
+        m, s = len(cand), min(s, 2)
+        hit = 0
+        if m >= 1:
+            hit = d.bit(HIT[m - 1][s][n - 1])
+            if hit:
+                idx = 0
+                if m == 2:
+                    idx = d.bit(PICK2[s])
+                elif m == 3 and d.bit(PICK3A[s]):
+                    idx = 1 + d.bit(PICK3B[s])
+                patch[f] = cand[idx]
+        if not hit:
+            fresh = d.bit(FRESH[1 if m > 0 else 0]) if created < P else 0
+            if fresh:
+                patch[f] = created
+                created += 1
+            else:
+                vcand = []
+                for w in indices[3 * f:3 * f + 3]:
+                    below = [g for g in vfaces[w] if g < f][::-1][:16]
+                    for g in below:
+                        if len(vcand) == 8:
+                            break
+                        if patch[g] not in cand and patch[g] not in vcand:
+                            vcand.append(patch[g])
+                vhit = d.bit(VHIT) if vcand else 0
+                if vhit:
+                    i = 0
+                    while i + 1 < len(vcand) and d.bit(VIDX[i]):
+                        i += 1
+                    patch[f] = vcand[i]
+                else:
+                    patch[f] = d.uniform32(created)
+        seam[f] = 0 if (m == 1 and hit) else 1
+        for g in lower[f]:
+            if g is not None and patch[g] != patch[f]:
+                seam[g] = 1
+    if created != P:
+        raise Invalid("bad_count")
+    d.finish()
+
+    # ---- 6.4 placements
+    d = RangeDecoder(place)
+    NZ, NEG, MAG = Ctx(), Ctx(), [Ctx() for _ in range(16)]
+    placements = []
+    for _ in range(P):
+        rot = d.uniform(256) if flags & 1 else 0
+        x, y = d.uniform32(W + 1), d.uniform32(H + 1)
+        page = d.uniform32(pages) if pages > 1 else 0
+        step = 0
+        if flags & 2 and d.bit(NZ):
+            neg = d.bit(NEG)
+            mag = d.exp_golomb(MAG)
+            if mag > 31:
+                raise Invalid("bad_value")
+            step = -(mag + 1) if neg else mag + 1
+        placements.append((rot, x, y, page, step))
+    d.finish()
+
+    xy = layout(positions, indices, patch, P)
+    return patch, placements, apply(xy, patch, placements, texel_scale, W, H)
+
+
+# ---- 6.5 layout replay -----------------------------------------------------------
+def layout(pos, idx, patch, P):
+    F = len(idx) // 3
+
+    def L2(u, w):
+        dx = pos[3 * u] - pos[3 * w]
+        dy = pos[3 * u + 1] - pos[3 * w + 1]
+        dz = pos[3 * u + 2] - pos[3 * w + 2]
+        return dx * dx + dy * dy + dz * dz
+
+    faces_of = [[] for _ in range(P)]
+    for f in range(F):
+        faces_of[patch[f]].append(f)
+    corner_xy = [0.0] * (6 * F)
+    for p in range(P):
+        fs = faces_of[p]
+        v0, v1, v2 = idx[3 * fs[0]:3 * fs[0] + 3]
+        place = {}
+        sp = [(0.0, 0.0), None, None]
+        l01s, l02s = L2(v0, v1), L2(v0, v2)
+        l01, l02 = math.sqrt(l01s), math.sqrt(l02s)
+        sp[1] = sp[0] if v1 == v0 else (l01, 0.0)
+        if v2 == v0:
+            sp[2] = sp[0]
+        elif v2 == v1:
+            sp[2] = sp[1]
+        elif v1 == v0:
+            sp[2] = (l02, 0.0)
+        elif l01 == 0:
+            sp[2] = (0.0, l02)
+        else:
+            x = (l01s + l02s - L2(v1, v2)) / (2.0 * l01)
+            y2 = l02s - x * x
+            sp[2] = (x, math.sqrt(y2 if y2 > 0 else 0.0))
+        for v, q in zip((v0, v1, v2), sp):
+            place.setdefault(v, q)
+        while True:
+            cands = set()
+            for f in fs:
+                t = idx[3 * f:3 * f + 3]
+                for k in range(3):
+                    q, a, b = t[k], t[(k + 1) % 3], t[(k + 2) % 3]
+                    if q not in place and q != a and q != b and a in place and b in place:
+                        cands.add(q)
+            if not cands:
+                break
+            for q in sorted(cands):
+                unf = []
+                for f in fs:
+                    t = idx[3 * f:3 * f + 3]
+                    if t.count(q) != 1:
+                        continue
+                    k = t.index(q)
+                    a, b = t[(k + 1) % 3], t[(k + 2) % 3]
+                    if a in place and b in place:
+                        unf.append((place[a], place[b], math.sqrt(L2(q, a)), math.sqrt(L2(q, b)), L2(a, b)))
+                place[q] = place_vertex(unf)
+        for f in fs:
+            for k in range(3):
+                v = idx[3 * f + k]
+                if v not in place:
+                    raise Invalid("layout_unreachable_face")
+                corner_xy[6 * f + 2 * k], corner_xy[6 * f + 2 * k + 1] = place[v]
+    return corner_xy
+
+
+def place_vertex(unf):
+    sx = sy = sw = mx = my = 0.0
+    for A, B, la, lb, lab2 in unf:
+        ex, ey = B[0] - A[0], B[1] - A[1]
+        if lab2 > 0:
+            s = (la * la - lb * lb + lab2) / (2.0 * lab2)
+            t2 = la * la / lab2 - s * s
+            t = math.sqrt(t2 if t2 > 0 else 0.0)
+            ux = A[0] + s * ex - t * ey
+            uy = A[1] + s * ey + t * ex
+        else:
+            ux, uy = (A[0] + B[0]) / 2.0, (A[1] + B[1]) / 2.0
+        d2 = ex * ex + ey * ey
+        den = d2 + lab2
+        e = 2.0 * math.sqrt(d2) * math.sqrt(lab2) / den if den > 0 else 1.0
+        w = e * e
+        sx += w * ux
+        sy += w * uy
+        sw += w
+        mx += ux
+        my += uy
+    p = (sx / sw, sy / sw) if sw > 0 else (mx / len(unf), my / len(unf))
+    for _ in range(2):
+        nx = ny = nw = 0.0
+        for A, B, la, lb, _lab2 in unf:
+            for X, l in ((A, la), (B, lb)):
+                dx, dy = p[0] - X[0], p[1] - X[1]
+                r = math.sqrt(dx * dx + dy * dy)
+                if l == 0 or r == 0:
+                    continue
+                w, g = 1.0 / (l * l), l / r
+                nx += w * (X[0] + g * dx)
+                ny += w * (X[1] + g * dy)
+                nw += w
+        if nw > 0:
+            p = (nx / nw, ny / nw)
+    return p
+
+
+# ---- 6.6 and Appendix A ----------------------------------------------------------------
+def tables():
+    text = Path(__file__).with_name("README.md").read_text()
+    S = {}
+    for i, v in re.findall(r"\| (\d+) \| `(0x[0-9a-fp.+-]+)`", text.split("### A.2")[0].split("### A.1")[1]):
+        S[int(i)] = float.fromhex(v)
+    T = [float.fromhex(v) for v in re.findall(r"\| \d \| `(0x[0-9a-fp.+-]+)` \|", text.split("### A.2")[1])]
+    assert len(S) == 65 and len(T) == 4
+    return S, T
+
+
+def apply(xy, patch, placements, texel_scale, W, H):
+    S, T = tables()
+    uv = []
+    for f, p in enumerate(patch):
+        rot, x, y, _page, step = placements[p]
+        r = rot % 256
+        q, i = r // 64, r % 64
+        c0, s0 = S[64 - i], S[i]
+        c, s = [(c0, s0), (-s0, c0), (-c0, -s0), (s0, -c0)][q]
+        e, k = step // 4, step % 4
+        scale = texel_scale * math.ldexp(T[k], e)
+        sc, ss = scale * c, scale * s
+        for k3 in range(3):
+            px, py = xy[6 * f + 2 * k3], xy[6 * f + 2 * k3 + 1]
+            tx = (sc * px - ss * py) + float(x)
+            ty = (ss * px + sc * py) + float(y)
+            uv += [f32(tx / W), f32(ty / H)]
+    return uv
+
+
+def fnv1a(data):
+    h = 0xcbf29ce484222325
+    for byte in data:
+        h = ((h ^ byte) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def golden_mesh():
+    nx, ny = 12, 8
+    pos, idx = [], []
+    for j in range(ny + 1):
+        for i in range(nx + 1):
+            x, y = f32(i / 12.0), f32(j / 8.0)
+            pos += [x, y, f32(f32(0.75 * x) * y)]
+    for j in range(ny):
+        for i in range(nx):
+            a = j * (nx + 1) + i
+            b, c = a + 1, a + nx + 1
+            idx += [a, b, c + 1, a, c + 1, c]
+    return pos, idx
+
+
+def main():
+    root = Path(__file__).resolve().parent.parent
+    header = (root / "tests/golden/uvmap_v1_0.h").read_text()
+    body = header.split("kUvMapV1_0[] = {")[1].split("};")[0]
+    stream = bytes(int(v, 16) for v in re.findall(r"0x([0-9a-f]{2})", body))
+    want = int(re.search(r"kUvMapV1_0UvHash = (0x[0-9a-f]+)", header).group(1), 16)
+    pos, idx = golden_mesh()
+    patch, placements, uv = decode(stream, pos, idx)
+    h = fnv1a(b"".join(struct.pack("<f", v) for v in uv))
+    print(f"stream {len(stream)} bytes, {len(placements)} patches, uv hash {h:#x} (want {want:#x})")
+    for n in range(len(stream)):
+        try:
+            decode(stream[:n], pos, idx)
+            print(f"prefix {n} decoded")
+            return 1
+        except Invalid as e:
+            if str(e) != "truncated":
+                print(f"prefix {n}: {e}")
+                return 1
+    return 0 if h == want else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
