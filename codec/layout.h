@@ -46,6 +46,8 @@
 //        in face order, skipping edges with l == 0 or r = |p - X| == 0,
 //        p' = sum (1/l^2) (X + (l / r) (p - X)) / sum (1/l^2); p = p' unless
 //        no edge was used.
+//    Every expression is evaluated left to right as written (codec/layout.cpp
+//    is the reference), each sum accumulated from 0 in the order stated.
 //    The comparisons with 0 above and the max() are the only float
 //    comparisons; they guard divisions and square roots of rounded values.
 #pragma once
