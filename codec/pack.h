@@ -57,7 +57,7 @@ struct PackOptions {
   PackMethod method = PackMethod::bitmap;
   bool per_patch_scale = true;      // use PackPrimitive::face_density when given
   int32_t min_scale_step = -16;     // per-patch scale range, in format steps of 2^(1/4):
-  int32_t max_scale_step = 4;       // 1/16 .. 2 times texel_scale
+  int32_t max_scale_step = 8;       // 1/16 .. 4 times texel_scale
   uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
   bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
   uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights
