@@ -29,10 +29,10 @@ UvStatus lower_neighbours(const TriMesh& mesh, std::vector<uint32_t>& lower) {
     uint32_t corner;
   };
   std::vector<Half> halves(size_t{nf} * 3);
-  for (uint32_t c = 0; c < nf * 3; ++c) {
+  for (size_t c = 0; c < size_t{nf} * 3; ++c) {
     const uint32_t a = mesh.indices[c], b = mesh.indices[c - c % 3 + (c % 3 + 1) % 3];
     const uint64_t lo = std::min(a, b), hi = std::max(a, b);
-    halves[c] = {(lo << 32) | hi, c};
+    halves[c] = {(lo << 32) | hi, static_cast<uint32_t>(c)};
   }
   std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
     return x.key != y.key ? x.key < y.key : x.corner < y.corner;
