@@ -14,7 +14,15 @@ struct Grid {
     return (static_cast<uint64_t>(x) * 73856093ull) ^ (static_cast<uint64_t>(y) * 19349663ull) ^
            (static_cast<uint64_t>(z) * 83492791ull);
   }
-  int64_t coord(float v) const { return static_cast<int64_t>(std::floor(static_cast<double>(v) / cell)); }
+  // Clamped, so huge coordinates over a tiny cell (or a NaN) cannot overflow
+  // the integer cast; clamped points share the outermost cells, which only
+  // costs time.
+  int64_t coord(float v) const {
+    const double q = std::floor(static_cast<double>(v) / cell);
+    if (!(q == q)) return 0;
+    constexpr double kLimit = 1152921504606846976.0;  // 2^60
+    return static_cast<int64_t>(std::clamp(q, -kLimit, kLimit));
+  }
 };
 
 double dist2(const float* a, const float* b) {
@@ -30,6 +38,13 @@ CornerMatch match_corners(const std::vector<float>& sp, const std::vector<uint32
   r.source_corner.assign(dt.size(), 0);
   const size_t sn = sp.size() / 3;
   const size_t sf = st.size() / 3;
+  const size_t dn = dp.size() / 3;
+  // Indices out of range: nothing can be matched safely.
+  if (std::any_of(st.begin(), st.end(), [&](uint32_t v) { return v >= sn; }) ||
+      std::any_of(dt.begin(), dt.end(), [&](uint32_t v) { return v >= dn; })) {
+    r.unmatched_faces = dt.size() / 3;
+    return r;
+  }
   // Source vertex -> faces (CSR).
   std::vector<uint32_t> start(sn + 1, 0), faces(st.size());
   for (uint32_t v : st) start[v + 1]++;
@@ -37,7 +52,9 @@ CornerMatch match_corners(const std::vector<float>& sp, const std::vector<uint32
   std::vector<uint32_t> fill(start.begin(), start.end() - 1);
   for (size_t c = 0; c < st.size(); ++c) faces[fill[st[c]]++] = static_cast<uint32_t>(c / 3);
 
-  const double tol = std::max(tolerance, 1e-12);
+  // A non-finite tolerance (positions near the float range) degrades to one
+  // cell: slow but exact.
+  const double tol = std::isfinite(tolerance) ? std::max(tolerance, 1e-12) : 1e300;
   Grid grid{tol * 2, {}};
   grid.cells.reserve(sn);
   for (size_t v = 0; v < sn; ++v)

@@ -69,6 +69,7 @@ std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, D
   }
   retire_extension_if_unused(model, kDracoExtension);
   retire_extension_if_unused(model, ext::kName);
+  retire_mesh_quantization_if_unused(model);
   compact_buffers(model, replaced);
   return {};
 }

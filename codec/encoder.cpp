@@ -46,21 +46,47 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
       pr.triangles = geom.triangles.size() / 3;
       pr.vertices = geom.vertex_count();
 
-      const bool implicit = plan.is_implicit(pr.mesh, pr.primitive);
+      bool implicit = plan.is_implicit(pr.mesh, pr.primitive);
       if (implicit) {
-        err = prepare_implicit_primitive(model, prim, geom, plan, options, replaced, pr);
+        // prepare_implicit_primitive consumes its geometry; keep the source
+        // in case the primitive falls back to explicit UVs.
+        PrimitiveGeometry work = geom;
+        err = prepare_implicit_primitive(model, prim, work, plan, options, replaced, pr);
         if (!err.empty()) return where + ": " + err;
-        plan.prims.back().report_index = report.primitives.size();
-      } else if (options.raw_geometry) {
+        if (plan.is_implicit(pr.mesh, pr.primitive)) {
+          plan.prims.back().report_index = report.primitives.size();
+        } else {
+          report.notes.push_back(where + ": " + pr.handling);
+          implicit = false;
+        }
+      }
+      if (implicit) {
+        report.primitives.push_back(pr);
+        continue;
+      }
+      if (geom.triangles.empty()) {
+        if (pr.handling.empty()) pr.handling = "pass: no triangles";
+        report.notes.push_back(where + " passed through: it has no triangles");
+        report.primitives.push_back(pr);
+        continue;
+      }
+      if (options.raw_geometry) {
         write_primitive_plain(model, prim, geom, replaced);
-        pr.handling = "raw";
+        if (pr.handling.empty()) pr.handling = "raw";
         for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
         pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
       } else {
         PrimitiveGeometry decoded;
         err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);
-        if (!err.empty()) return where + ": " + err;
-        pr.handling = "draco";
+        if (!err.empty() && err.find("NaN") != std::string::npos) return where + ": " + err;
+        if (!err.empty()) {
+          // Draco cannot carry it (e.g. a MAT4 attribute): the primitive
+          // stays exactly as it came (write_primitive_draco touched nothing).
+          pr.handling = "pass: " + err;
+          report.notes.push_back(where + " passed through: " + err);
+        } else if (pr.handling.empty()) {
+          pr.handling = "draco";
+        }
       }
       report.primitives.push_back(pr);
     }
@@ -69,6 +95,10 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
     std::string err = finish_implicit_uvs(model, plan, options, report);
     if (!err.empty()) return err;
   }
+  // Primitives read from Draco and written raw no longer need Draco, and
+  // with TEXCOORD_0 gone, quantized input may need KHR_mesh_quantization no more.
+  retire_extension_if_unused(model, kDracoExtension);
+  retire_mesh_quantization_if_unused(model);
   compact_buffers(model, replaced);
   return {};
 }

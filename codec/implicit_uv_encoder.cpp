@@ -49,6 +49,20 @@ double quantization_tolerance(const VertexAttribute& pos, int bits) {
   return step * 1.01 + 1e-7 * std::max(1.0, range);
 }
 
+// The primitive keeps explicit UVs after all: it gets its own copy of its
+// material (the original is warped for the group's other members, if any)
+// and leaves the plan. pr.handling says why; the caller writes the geometry.
+std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan, PrimitiveReport& pr,
+                      const std::string& why) {
+  if (prim.material >= 0 && static_cast<size_t>(prim.material) < model.materials.size()) {
+    model.materials.push_back(model.materials[prim.material]);
+    prim.material = static_cast<int>(model.materials.size() - 1);
+  }
+  plan.group_of.erase({pr.mesh, pr.primitive});
+  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+  return {};
+}
+
 std::vector<float> positions_of(const VertexAttribute& a) {
   std::vector<float> out(a.count() * 3);
   for (size_t e = 0; e < a.count(); ++e)
@@ -65,7 +79,13 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
     if (decodable[img] < 0) {
       std::string err;
       int w = 0, h = 0;
-      decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
+      // image_size reads KTX2 headers (for sizes), but only PNG/JPEG/WebP decode.
+      if (sniff_image_codec(model.images[img].image) == ImageCodec::ktx2) {
+        decodable[img] = 0;
+        err = "KTX2 images cannot be decoded and warped";
+      } else {
+        decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
+      }
       if (!decodable[img])
         report.notes.push_back("image " + std::to_string(img) + " kept as is, explicit UVs kept for its users: " + err);
     }
@@ -82,6 +102,24 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
       const auto& prim = model.meshes[mi].primitives[pi];
       if (!is_triangle_mode(prim.mode) || !prim.targets.empty() || !prim.attributes.count("TEXCOORD_0")) continue;
       if (!prim.attributes.count("POSITION")) continue;
+      // A TEXCOORD_0 texture whose image we cannot reach or that also names
+      // an image through an extension (KHR_texture_basisu, EXT_texture_webp,
+      // ...) would keep sampling the old UVs: the primitive stays explicit.
+      std::string blocker;
+      for (const auto& s : texture_slots(model, prim.material)) {
+        if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size()) continue;
+        const auto& tex = model.textures[s.texture];
+        for (const auto& [name, ext] : tex.extensions)
+          if (ext.IsObject() && ext.Has("source")) blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
+        if (blocker.empty() && texture_image(model, s.texture) < 0)
+          blocker = "texture " + std::to_string(s.texture) + " has no image";
+        if (!blocker.empty()) break;
+      }
+      if (!blocker.empty()) {
+        report.notes.push_back("mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
+                               ": explicit UVs kept, " + blocker + " that the warp cannot rewrite");
+        continue;
+      }
       const auto slots = uv0_slots(model, prim.material);
       if (slots.empty()) continue;
       Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
@@ -145,10 +183,13 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   ip.primitive = pr.primitive;
   ip.had_tangents = geom.find("TANGENT") != nullptr;
   const VertexAttribute* uv0 = geom.find("TEXCOORD_0");
-  if (!uv0 || uv0->components != 2) return "TEXCOORD_0 is not a VEC2";
+  if (!uv0 || uv0->components != 2) return fall_back(model, prim, plan, pr, "TEXCOORD_0 is not a VEC2");
   std::vector<float> source_corner_uv(geom.triangles.size() * 2);
   for (size_t c = 0; c < geom.triangles.size(); ++c)
-    for (int i = 0; i < 2; ++i) source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
+    for (int i = 0; i < 2; ++i) {
+      source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
+      if (!std::isfinite(source_corner_uv[2 * c + i])) return "TEXCOORD_0 holds a NaN or infinite value";
+    }
   geom.erase("TEXCOORD_0");
   geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
   weld_vertices(geom.attributes, geom.triangles);
@@ -158,25 +199,31 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     for (int i = 0; i < 3; ++i)
       if (!std::isfinite(src_pos->get(e, i))) return "POSITION holds a NaN or infinite value";
 
+  if (geom.triangles.empty()) return fall_back(model, prim, plan, pr, "no triangles");
+
+  // The geometry is written to a trial copy of the primitive first: if the
+  // embedding fails, the primitive falls back to explicit UVs untouched, and
+  // whatever the trial appended is dropped by compact_buffers.
+  tinygltf::Primitive trial = prim;
+  std::vector<int> trial_replaced;
+  const size_t accessors_before = model.accessors.size();
   double tolerance = 1e-9;
   if (options.raw_geometry) {
-    write_primitive_plain(model, prim, geom, replaced);
+    write_primitive_plain(model, trial, geom, trial_replaced);
     ip.decoded = geom;
     for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
     pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
   } else {
-    std::string err = write_primitive_draco(model, prim, geom, options.draco, replaced, ip.decoded, pr.geometry_bytes);
+    std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded, pr.geometry_bytes);
     if (!err.empty()) return err;
     tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
   }
-  // TEXCOORD_0 stays declared, without data, as KHR_draco_mesh_compression
-  // does with the attributes it replaces: validators and loaders expect it.
-  tinygltf::Accessor decl;
-  decl.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  decl.type = TINYGLTF_TYPE_VEC2;
-  decl.count = ip.decoded.vertex_count();
-  model.accessors.push_back(decl);
-  prim.attributes["TEXCOORD_0"] = static_cast<int>(model.accessors.size() - 1);
+  auto discard_trial = [&](const std::string& why) {
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i) replaced.push_back(static_cast<int>(i));
+    pr.geometry_bytes = 0;
+    return fall_back(model, prim, plan, pr, why);
+  };
+  if (ip.decoded.triangles.empty()) return discard_trial("no triangles left after Draco");
 
   std::vector<uint32_t> point_to_vertex;
   ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
@@ -190,7 +237,19 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   eo.tau = options.tau;
   eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
   Embedding er = embed(ip.tri, eo);
-  if (er.status != LayoutStatus::ok) return std::string("embedding failed: ") + to_string(er.status);
+  if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+
+  // Commit: the trial becomes the primitive. TEXCOORD_0 stays declared,
+  // without data, as KHR_draco_mesh_compression does with the attributes it
+  // replaces: validators and loaders expect it.
+  prim = std::move(trial);
+  replaced.insert(replaced.end(), trial_replaced.begin(), trial_replaced.end());
+  tinygltf::Accessor decl;
+  decl.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  decl.type = TINYGLTF_TYPE_VEC2;
+  decl.count = ip.decoded.vertex_count();
+  model.accessors.push_back(decl);
+  prim.attributes["TEXCOORD_0"] = static_cast<int>(model.accessors.size() - 1);
   ip.patch_of_face = std::move(er.patch_of_face);
   ip.patch_count = er.patch_count;
   ip.corner_xy = std::move(er.corner_xy);

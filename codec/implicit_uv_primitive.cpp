@@ -1,5 +1,6 @@
 #include "codec/implicit_uv_primitive.h"
 
+#include <cmath>
 #include <cstring>
 #include <unordered_map>
 
@@ -79,9 +80,9 @@ void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corne
 
 std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& geom) {
   const auto& ext = prim.extensions.at(ext::kName);
-  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber())
+  if (!ext.IsObject() || !ext.Has("bufferView"))
     return std::string(ext::kName) + " object has no bufferView";
-  const int view = ext.Get("bufferView").GetNumberAsInt();
+  const int view = value_index(ext.Get("bufferView"));
   if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
     return std::string(ext::kName) + " names a missing bufferView";
   const auto& bv = model.bufferViews[view];
@@ -91,6 +92,10 @@ std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Prim
     return std::string(ext::kName) + " bufferView runs past its buffer";
   const VertexAttribute* pos = geom.find("POSITION");
   if (!pos || pos->components != 3) return "primitive has no usable POSITION";
+  // The encoder never lays out non-finite positions; the replay must not see them.
+  for (size_t e = 0; e < pos->count(); ++e)
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
 
   std::vector<uint32_t> point_to_vertex;
   const TriMesh mesh = embedding_mesh(*pos, geom.triangles, point_to_vertex);
@@ -98,10 +103,12 @@ std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Prim
   const std::span<const uint8_t> bytes(model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength);
   const UvStatus st = decode_uvs(mesh, bytes, corner_uv);
   if (st != UvStatus::ok) return std::string("bad UV bitstream: ") + to_string(st);
+  if (corner_uv.size() != geom.triangles.size() * 2) return "bad UV bitstream: wrong number of corner UVs";
 
   split_by_corner_uv(geom, corner_uv);
   const bool tangents = ext.Has("tangents") && ext.Get("tangents").IsBool() && ext.Get("tangents").Get<bool>();
-  if (tangents && geom.find("NORMAL")) {
+  const VertexAttribute* normal = geom.find("NORMAL");
+  if (tangents && normal && normal->components == 3) {
     geom.erase("TANGENT");
     geom.attributes.push_back(tangent_attribute(geom));
   }

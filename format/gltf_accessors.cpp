@@ -85,30 +85,58 @@ float VertexAttribute::get(size_t e, int i) const {
   }
 }
 
+int value_index(const tinygltf::Value& v) {
+  if (v.IsInt()) {
+    const int i = v.Get<int>();
+    return i >= 0 ? i : -1;
+  }
+  if (v.IsReal()) {
+    const double d = v.Get<double>();
+    if (d >= 0 && d <= static_cast<double>(std::numeric_limits<int>::max()) && d == std::floor(d))
+      return static_cast<int>(d);
+  }
+  return -1;
+}
+
 namespace {
 
-// Copies `count` elements of `elem` bytes from a bufferView with stride.
-std::string copy_strided(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count,
-                         size_t elem, std::vector<uint8_t>& out, size_t dst_offset = 0,
-                         size_t dst_stride = 0) {
+// Checks that `count` elements of `elem` bytes, `stride` apart, starting
+// `byte_offset` into bufferView `view_index`, lie inside the view and the
+// view inside its buffer. Allocates nothing.
+std::string check_view_range(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count,
+                             size_t elem, size_t& stride) {
   if (view_index < 0 || static_cast<size_t>(view_index) >= model.bufferViews.size())
     return "bufferView " + std::to_string(view_index) + " does not exist";
   const auto& view = model.bufferViews[view_index];
   if (view.buffer < 0 || static_cast<size_t>(view.buffer) >= model.buffers.size())
     return "bufferView " + std::to_string(view_index) + " names a missing buffer";
   const auto& buf = model.buffers[view.buffer].data;
-  const size_t stride = view.byteStride ? view.byteStride : elem;
+  stride = view.byteStride ? view.byteStride : elem;
   if (stride < elem) return "bufferView " + std::to_string(view_index) + " has a byteStride below the element size";
   if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset)
     return "bufferView " + std::to_string(view_index) + " runs past the end of its buffer";
   if (count == 0) return {};
-  const size_t needed = byte_offset + (count - 1) * stride + elem;
-  if (byte_offset > view.byteLength || needed > view.byteLength || needed < byte_offset)
+  // count <= kMaxAccessorElements and stride < 2^32: no overflow in 64 bits.
+  if (count > kMaxAccessorElements || stride > std::numeric_limits<uint32_t>::max())
+    return "accessor on bufferView " + std::to_string(view_index) + " is too large";
+  if (byte_offset > view.byteLength || (count - 1) * stride + elem > view.byteLength - byte_offset)
     return "accessor runs past the end of bufferView " + std::to_string(view_index);
-  const uint8_t* base = buf.data() + view.byteOffset + byte_offset;
-  if (!dst_stride) dst_stride = elem;
-  for (size_t i = 0; i < count; ++i) std::memcpy(out.data() + dst_offset + i * dst_stride, base + i * stride, elem);
   return {};
+}
+
+// Copies elements checked by check_view_range into `out`.
+void copy_strided(const tinygltf::Model& model, int view_index, size_t byte_offset, size_t count, size_t elem,
+                  size_t stride, uint8_t* out) {
+  if (!count) return;
+  const auto& view = model.bufferViews[view_index];
+  const uint8_t* base = model.buffers[view.buffer].data.data() + view.byteOffset + byte_offset;
+  for (size_t i = 0; i < count; ++i) std::memcpy(out + i * elem, base + i * stride, elem);
+}
+
+size_t zero_fill_budget(const tinygltf::Model& model) {
+  size_t bytes = 0;
+  for (const auto& b : model.buffers) bytes += b.data.size();
+  return std::max(kMinZeroFillBudget, bytes > (SIZE_MAX / 8) ? SIZE_MAX / 2 : 4 * bytes);
 }
 
 }  // namespace
@@ -117,28 +145,51 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
   if (index < 0 || static_cast<size_t>(index) >= model.accessors.size())
     return "accessor " + std::to_string(index) + " does not exist";
   const auto& acc = model.accessors[index];
+  const std::string name = "accessor " + std::to_string(index);
   out.component_type = acc.componentType;
   out.components = component_count(acc.type);
   out.normalized = acc.normalized;
+  out.data.clear();
   const size_t elem = out.element_size();
-  if (!elem) return "accessor " + std::to_string(index) + " has an unknown type";
-  // 2^28 elements is far beyond any real asset and keeps the product in range.
-  if (acc.count > (size_t{1} << 28)) return "accessor " + std::to_string(index) + " declares too many elements";
-  out.data.assign(acc.count * elem, 0);
+  if (!elem) return name + " has an unknown type";
+  if (acc.count > kMaxAccessorElements) return name + " declares too many elements";
+  // Validate every source range before allocating anything.
+  size_t stride = 0;
   if (acc.bufferView >= 0) {
-    std::string err = copy_strided(model, acc.bufferView, acc.byteOffset, acc.count, elem, out.data);
-    if (!err.empty()) return err;
+    std::string err = check_view_range(model, acc.bufferView, acc.byteOffset, acc.count, elem, stride);
+    if (!err.empty()) return name + ": " + err;
+  } else if (acc.count * elem > zero_fill_budget(model)) {
+    return name + " declares " + std::to_string(acc.count * elem) + " bytes with no data behind them";
   }
+  size_t n = 0, ics = 0, istride = 0, vstride = 0;
   if (acc.sparse.isSparse) {
     const auto& sp = acc.sparse;
-    const size_t n = static_cast<size_t>(std::max(sp.count, 0));
-    const size_t ics = component_size(sp.indices.componentType);
-    if (!ics || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT)
-      return "sparse accessor " + std::to_string(index) + " has a bad index type";
+    if (sp.count < 0 || static_cast<size_t>(sp.count) > acc.count)
+      return "sparse " + name + " has a count outside [0, " + std::to_string(acc.count) + "]";
+    n = static_cast<size_t>(sp.count);
+    ics = component_size(sp.indices.componentType);
+    if (!ics || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+        sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
+        sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_INT)
+      return "sparse " + name + " has a bad index type";
+    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) return "sparse " + name + " has a negative byteOffset";
+    std::string err = check_view_range(model, sp.indices.bufferView, static_cast<size_t>(sp.indices.byteOffset), n,
+                                       ics, istride);
+    if (err.empty())
+      err = check_view_range(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem, vstride);
+    if (!err.empty()) return "sparse " + name + ": " + err;
+    // Sparse index and value views are tightly packed (glTF forbids a stride).
+    istride = ics;
+    vstride = elem;
+  }
+
+  out.data.assign(acc.count * elem, 0);
+  if (acc.bufferView >= 0) copy_strided(model, acc.bufferView, acc.byteOffset, acc.count, elem, stride, out.data.data());
+  if (n) {
+    const auto& sp = acc.sparse;
     std::vector<uint8_t> idx(n * ics), vals(n * elem);
-    std::string err = copy_strided(model, sp.indices.bufferView, sp.indices.byteOffset, n, ics, idx);
-    if (err.empty()) err = copy_strided(model, sp.values.bufferView, sp.values.byteOffset, n, elem, vals);
-    if (!err.empty()) return "sparse accessor " + std::to_string(index) + ": " + err;
+    copy_strided(model, sp.indices.bufferView, static_cast<size_t>(sp.indices.byteOffset), n, ics, istride, idx.data());
+    copy_strided(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem, vstride, vals.data());
     for (size_t i = 0; i < n; ++i) {
       uint32_t k = 0;
       if (ics == 1) k = idx[i];
@@ -148,8 +199,11 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
         k = v;
       }
       if (ics == 4) std::memcpy(&k, &idx[i * 4], 4);
-      if (k >= acc.count) return "sparse accessor " + std::to_string(index) + " has an index out of range";
-      std::memcpy(out.data.data() + k * elem, vals.data() + i * elem, elem);
+      if (k >= acc.count) {
+        out.data.clear();
+        return "sparse " + name + " has an index out of range";
+      }
+      std::memcpy(out.data.data() + size_t{k} * elem, vals.data() + i * elem, elem);
     }
   }
   return {};

@@ -25,12 +25,26 @@ struct VertexAttribute {
   float get(size_t e, int i) const;
 };
 
+// Largest element count an accessor may declare (2^28: far beyond any real
+// asset, and count * 64-byte elements stays in range).
+inline constexpr size_t kMaxAccessorElements = size_t{1} << 28;
+// Accessors without a bufferView are zero-filled; a file may declare at most
+// max(this, 4 x its buffer bytes) of them, so a tiny file cannot demand
+// gigabytes.
+inline constexpr size_t kMinZeroFillBudget = size_t{64} << 20;
+
+// A JSON number in an extension or extras that names an index: -1 unless it
+// is an integer in [0, INT_MAX] (tinygltf's GetNumberAsInt casts any double,
+// which is undefined behaviour past int's range).
+int value_index(const tinygltf::Value& v);
+
 size_t component_size(int component_type);
 int component_count(int accessor_type);  // TINYGLTF_TYPE_* -> 1..16
 int accessor_type_for(int components);   // inverse of component_count
 
 // Reads accessor `index` into `out` (semantic left empty). Empty string on
-// success, else a one-line reason.
+// success, else a one-line reason. Every declared size is checked against
+// the bytes that back it before anything is allocated.
 std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribute& out);
 
 // Reads a primitive's triangle list: indices as given (or 0..n-1 when absent),

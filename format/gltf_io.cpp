@@ -3,7 +3,11 @@
 #include "format/gltf_io.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
+#include <cstring>
+#include <limits>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -12,6 +16,8 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+
+#include "format/gltf_accessors.h"
 
 namespace gltfwarp {
 namespace {
@@ -104,8 +110,8 @@ void for_each_accessor_ref(tinygltf::Model& m, Fn&& fn) {
     if (attrs == obj.end() || !attrs->second.IsObject()) continue;
     auto attr_obj = attrs->second.Get<tinygltf::Value::Object>();
     for (auto& [name, v] : attr_obj) {
-      if (!v.IsNumber()) continue;
-      int idx = v.GetNumberAsInt();
+      int idx = value_index(v);
+      if (idx < 0) continue;
       fn(idx);
       v = tinygltf::Value(idx);
     }
@@ -122,8 +128,9 @@ void for_each_primitive_view_ref(tinygltf::Model& m, const std::function<void(in
         if (!ext.IsObject()) continue;
         auto obj = ext.Get<tinygltf::Value::Object>();
         auto bv = obj.find("bufferView");
-        if (bv == obj.end() || !bv->second.IsNumber()) continue;
-        int idx = bv->second.GetNumberAsInt();
+        if (bv == obj.end()) continue;
+        int idx = value_index(bv->second);
+        if (idx < 0) continue;
         fn(idx);
         bv->second = tinygltf::Value(idx);
         ext = tinygltf::Value(obj);
@@ -180,16 +187,10 @@ void restore_draco_indices(tinygltf::Model& model) {
       auto it = prim.extensions.find("KHR_draco_mesh_compression");
       if (it == prim.extensions.end() || !it->second.IsObject() || !it->second.Has(kHiddenIndices)) continue;
       auto obj = it->second.Get<tinygltf::Value::Object>();
-      if (obj[kHiddenIndices].IsNumber()) prim.indices = obj[kHiddenIndices].GetNumberAsInt();
+      prim.indices = value_index(obj[kHiddenIndices]);
       obj.erase(kHiddenIndices);
       it->second = tinygltf::Value(obj);
     }
-}
-
-uint32_t read_u32(const std::string& b, size_t at) {
-  return static_cast<uint32_t>(static_cast<uint8_t>(b[at])) | static_cast<uint32_t>(static_cast<uint8_t>(b[at + 1])) << 8 |
-         static_cast<uint32_t>(static_cast<uint8_t>(b[at + 2])) << 16 |
-         static_cast<uint32_t>(static_cast<uint8_t>(b[at + 3])) << 24;
 }
 
 void put_u32(std::string& b, uint32_t v) {
@@ -198,63 +199,397 @@ void put_u32(std::string& b, uint32_t v) {
 
 }  // namespace
 
+namespace {
+
+constexpr uint32_t kGlbMagic = 0x46546C67u;  // "glTF"
+constexpr uint32_t kChunkJson = 0x4E4F534Au;
+constexpr uint32_t kChunkBin = 0x004E4942u;
+
+uint32_t load_u32(const uint8_t* p) {
+  return static_cast<uint32_t>(p[0]) | static_cast<uint32_t>(p[1]) << 8 | static_cast<uint32_t>(p[2]) << 16 |
+         static_cast<uint32_t>(p[3]) << 24;
+}
+
+// True when arrays/objects nest deeper than `limit` (brackets outside
+// strings). tinygltf turns extras and extensions into Values recursively and
+// nlohmann serialises recursively: unbounded nesting would overflow the stack.
+bool json_too_deep(const char* p, size_t n, size_t limit) {
+  size_t depth = 0;
+  bool in_string = false;
+  for (size_t i = 0; i < n; ++i) {
+    const char c = p[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') in_string = true;
+    else if (c == '[' || c == '{') {
+      if (++depth > limit) return true;
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return false;
+}
+
+// The JSON and BIN chunks of a GLB, checked against the container's lengths
+// (tinygltf 2.7 lets a BIN chunk's payload reach 8 bytes past the file).
+struct GlbParts {
+  std::string json;
+  const uint8_t* bin = nullptr;
+  size_t bin_size = 0;
+};
+
+std::string split_glb(const uint8_t* d, size_t n, GlbParts& out) {
+  if (n < 12) return "truncated GLB header (" + std::to_string(n) + " bytes)";
+  if (load_u32(d) != kGlbMagic) return "not a GLB file";
+  const uint32_t version = load_u32(d + 4);
+  if (version != 2) return "GLB version " + std::to_string(version) + " is not 2";
+  const uint32_t length = load_u32(d + 8);
+  if (length > n) return "truncated GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
+                         std::to_string(n);
+  if (length < 20) return "GLB has no JSON chunk";
+  size_t off = 12;
+  bool have_json = false, have_bin = false;
+  while (off < length) {
+    if (length - off < 8) return "truncated GLB chunk header at byte " + std::to_string(off);
+    const uint32_t clen = load_u32(d + off), type = load_u32(d + off + 4);
+    off += 8;
+    if (clen > length - off)
+      return "GLB chunk at byte " + std::to_string(off - 8) + " declares " + std::to_string(clen) +
+             " bytes, past the end of the file";
+    if (!have_json) {
+      if (type != kChunkJson) return "the first GLB chunk is not JSON";
+      if (clen == 0) return "the GLB JSON chunk is empty";
+      out.json.assign(reinterpret_cast<const char*>(d + off), clen);
+      have_json = true;
+    } else if (type == kChunkBin && !have_bin) {
+      out.bin = d + off;
+      out.bin_size = clen;
+      have_bin = true;
+    }
+    // Other chunk types are skipped, as the specification says.
+    off += clen;
+  }
+  return {};
+}
+
+// A GLB tinygltf accepts: header, JSON padded with spaces, BIN (if any)
+// padded with zeros, exact lengths.
+std::string make_glb(std::string json, const uint8_t* bin, size_t bin_size) {
+  while (json.size() % 4) json.push_back(' ');
+  const size_t bin_padded = (bin_size + 3) / 4 * 4;
+  std::string glb = "glTF";
+  put_u32(glb, 2);
+  put_u32(glb, static_cast<uint32_t>(12 + 8 + json.size() + (bin_size ? 8 + bin_padded : 0)));
+  put_u32(glb, static_cast<uint32_t>(json.size()));
+  put_u32(glb, kChunkJson);
+  glb += json;
+  if (bin_size) {
+    put_u32(glb, static_cast<uint32_t>(bin_padded));
+    put_u32(glb, kChunkBin);
+    glb.append(reinterpret_cast<const char*>(bin), bin_size);
+    glb.append(bin_padded - bin_size, '\0');
+  }
+  return glb;
+}
+
+bool is_data_uri(const std::string& uri) { return uri.rfind("data:", 0) == 0; }
+
+// "http:", "https:", "file:", ...: an absolute URI we do not fetch.
+bool has_uri_scheme(const std::string& uri) {
+  const size_t colon = uri.find(':');
+  if (colon == std::string::npos || colon < 2) return false;  // "C:" is a drive, not a scheme
+  for (size_t i = 0; i < colon; ++i) {
+    const char c = uri[i];
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.')) return false;
+  }
+  return std::isalpha(static_cast<unsigned char>(uri[0]));
+}
+
+bool is_absolute_path(const std::string& uri) {
+  return !uri.empty() && (uri[0] == '/' || uri[0] == '\\' || (uri.size() > 1 && uri[1] == ':'));
+}
+
+std::optional<uint64_t> json_uint(const nlohmann::json& o, const char* key, std::optional<uint64_t> fallback) {
+  if (!o.is_object()) return std::nullopt;
+  auto it = o.find(key);
+  if (it == o.end()) return fallback;
+  if (!it->is_number_unsigned()) return std::nullopt;
+  return it->get<uint64_t>();
+}
+
+// Checks tinygltf 2.7 does not do, on the parsed JSON before tinygltf sees it:
+// every image's bufferView lies inside its buffer's declared byteLength
+// (tinygltf hands the image loader a pointer and length without checking),
+// and buffer/image URIs are data URIs or relative file names.
+std::string prevalidate(const nlohmann::json& doc) {
+  if (!doc.is_object()) return "the JSON root is not an object";
+  const auto arr = [&](const char* key) -> const nlohmann::json* {
+    auto it = doc.find(key);
+    return it != doc.end() && it->is_array() ? &*it : nullptr;
+  };
+  const nlohmann::json* buffers = arr("buffers");
+  const nlohmann::json* views = arr("bufferViews");
+  if (buffers)
+    for (size_t i = 0; i < buffers->size(); ++i) {
+      const auto& b = (*buffers)[i];
+      if (!b.is_object()) return "buffer " + std::to_string(i) + " is not an object";
+      auto uri = b.find("uri");
+      if (uri == b.end()) continue;
+      if (!uri->is_string()) return "buffer " + std::to_string(i) + " has a uri that is not a string";
+      const std::string u = uri->get<std::string>();
+      if (is_data_uri(u)) continue;
+      if (has_uri_scheme(u) || is_absolute_path(u))
+        return "buffer " + std::to_string(i) + " uri '" + u + "' is not a relative file name";
+    }
+  // Primitives: tinygltf silently drops a primitive whose attributes are
+  // not an object, and extension members that are not objects, which would
+  // lose geometry or our UVs without a word. The two extensions the codec
+  // owns must be well-formed objects naming existing bufferViews.
+  const size_t view_count = views ? views->size() : 0;
+  if (const nlohmann::json* meshes = arr("meshes"))
+    for (size_t mi = 0; mi < meshes->size(); ++mi) {
+      const auto& mesh = (*meshes)[mi];
+      if (!mesh.is_object()) return "mesh " + std::to_string(mi) + " is not an object";
+      auto prims = mesh.find("primitives");
+      if (prims == mesh.end() || !prims->is_array()) return "mesh " + std::to_string(mi) + " has no primitives array";
+      for (size_t pi = 0; pi < prims->size(); ++pi) {
+        const auto& prim = (*prims)[pi];
+        const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi);
+        if (!prim.is_object()) return where + " is not an object";
+        auto attrs = prim.find("attributes");
+        if (attrs == prim.end() || !attrs->is_object()) return where + " has no attributes object";
+        for (auto it = attrs->begin(); it != attrs->end(); ++it)
+          if (!it->is_number_unsigned()) return where + " attribute " + it.key() + " is not an accessor index";
+        for (const char* key : {"indices", "material", "mode"})
+          if (auto k = prim.find(key); k != prim.end() && !k->is_number_unsigned())
+            return where + " " + key + " is not a non-negative integer";
+        auto exts = prim.find("extensions");
+        if (exts == prim.end() || !exts->is_object()) continue;
+        for (const char* name : {"KHR_draco_mesh_compression", "GLTFWARP_implicit_texcoords"}) {
+          auto e = exts->find(name);
+          if (e == exts->end()) continue;
+          const std::string what = where + " " + name;
+          if (!e->is_object()) return what + " is not an object";
+          auto bv = e->find("bufferView");
+          if (bv == e->end() || !bv->is_number_unsigned() || bv->get<uint64_t>() >= view_count)
+            return what + " does not name an existing bufferView";
+          if (std::string(name) == "KHR_draco_mesh_compression") {
+            auto da = e->find("attributes");
+            if (da == e->end() || !da->is_object()) return what + " has no attributes object";
+            for (auto it = da->begin(); it != da->end(); ++it)
+              if (!it->is_number_unsigned() || it->get<uint64_t>() > uint64_t{std::numeric_limits<int>::max()})
+                return what + " attribute " + it.key() + " is not a Draco attribute id";
+          }
+        }
+      }
+    }
+  if (const nlohmann::json* images = arr("images"))
+    for (size_t i = 0; i < images->size(); ++i) {
+      const auto& img = (*images)[i];
+      const std::string what = "image " + std::to_string(i);
+      if (!img.is_object()) return what + " is not an object";
+      if (auto uri = img.find("uri"); uri != img.end() && uri->is_string()) {
+        const std::string u = uri->get<std::string>();
+        if (is_absolute_path(u) && !has_uri_scheme(u)) return what + " uri '" + u + "' is an absolute path";
+      }
+      auto bv = img.find("bufferView");
+      if (bv == img.end()) continue;
+      if (!bv->is_number_unsigned() || !views || bv->get<uint64_t>() >= views->size())
+        return what + " names a bufferView that does not exist";
+      const auto& view = (*views)[bv->get<size_t>()];
+      const auto buf = json_uint(view, "buffer", std::nullopt);
+      const auto off = json_uint(view, "byteOffset", 0), len = json_uint(view, "byteLength", std::nullopt);
+      if (!buf || !off || !len || !buffers || *buf >= buffers->size())
+        return what + " names a malformed bufferView";
+      const auto blen = json_uint((*buffers)[*buf], "byteLength", std::nullopt);
+      if (!blen || *off > *blen || *len > *blen - *off) return what + " names a bufferView outside its buffer";
+    }
+  return {};
+}
+
+// Filesystem access for tinygltf: regular files only (never devices or
+// FIFOs, which could hang or stream forever), bounded in size, and none at
+// all when the caller forbids external files.
+struct FsContext {
+  bool allow = true;
+};
+
+bool fs_exists(const std::string& path, void* user) {
+  if (!static_cast<FsContext*>(user)->allow) return false;
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+std::string fs_expand(const std::string& path, void*) { return path; }
+
+bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!static_cast<FsContext*>(user)->allow || !fs::is_regular_file(path, ec)) {
+    if (err) *err = "not a readable regular file";
+    return false;
+  }
+  const auto size = fs::file_size(path, ec);
+  if (ec || size > kMaxExternalFileBytes) {
+    if (err) *err = ec ? ec.message() : "larger than " + std::to_string(kMaxExternalFileBytes) + " bytes";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  out->resize(static_cast<size_t>(size));
+  if (!in || (size && !in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size)))) {
+    if (err) *err = "read error";
+    return false;
+  }
+  return true;
+}
+
+bool fs_write_bytes(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+
+// Keeps images as their encoded bytes (see keep_image_bytes) after checking
+// that bytes embedded through a bufferView lie inside the loaded buffer.
+bool keep_image_bytes_checked(tinygltf::Image* image, const int index, std::string* err, std::string* warn,
+                              int req_width, int req_height, const unsigned char* bytes, int size, void* user) {
+  const auto* model = static_cast<const tinygltf::Model*>(user);
+  if (size < 0) {
+    if (err) *err += "image " + std::to_string(index) + " is too large\n";
+    return false;
+  }
+  if (image->bufferView >= 0) {
+    const auto& views = model->bufferViews;
+    bool inside = false;
+    if (static_cast<size_t>(image->bufferView) < views.size()) {
+      const auto& v = views[image->bufferView];
+      if (v.buffer >= 0 && static_cast<size_t>(v.buffer) < model->buffers.size()) {
+        const auto& data = model->buffers[v.buffer].data;
+        inside = v.byteOffset <= data.size() && v.byteLength <= data.size() - v.byteOffset &&
+                 static_cast<size_t>(size) == v.byteLength;
+      }
+    }
+    if (!inside) {
+      if (err) *err += "image " + std::to_string(index) + " names a bufferView outside its buffer\n";
+      return false;
+    }
+  }
+  return keep_image_bytes(image, index, err, warn, req_width, req_height, bytes, size, nullptr);
+}
+
+}  // namespace
+
+GltfReadResult read_gltf_memory(const uint8_t* data, size_t size, tinygltf::Model& model,
+                                const GltfReadOptions& options) {
+  GltfReadResult r;
+  model = tinygltf::Model();
+  const std::string& name = options.name;
+  auto fail = [&](const std::string& why) {
+    r.error = "cannot read " + name + ": " + one_line(why);
+    return r;
+  };
+  if (size == 0) return fail("the file is empty");
+  if (size > std::numeric_limits<uint32_t>::max()) return fail("files of 4 GiB or more are not supported");
+  const bool binary = size >= 4 && std::memcmp(data, "glTF", 4) == 0;
+
+  GlbParts glb;
+  if (binary) {
+    std::string err = split_glb(data, size, glb);
+    if (!err.empty()) return fail(err);
+  } else {
+    glb.json.assign(reinterpret_cast<const char*>(data), size);
+  }
+  if (json_too_deep(glb.json.data(), glb.json.size(), kMaxJsonDepth))
+    return fail("the JSON nests deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(glb.json);
+  } catch (const std::exception& e) {
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0 && what.find("] ") != std::string::npos)
+      what = what.substr(what.find("] ") + 2);
+    return fail("malformed JSON: " + what);
+  }
+  if (std::string err = prevalidate(doc); !err.empty()) return fail(err);
+
+  // Park Draco index accessors (see park_draco_indices); a GLB is always
+  // rebuilt as a clean container around the (possibly patched) JSON.
+  park_draco_indices(glb.json);
+  std::string bytes = binary ? make_glb(std::move(glb.json), glb.bin, glb.bin_size) : std::move(glb.json);
+
+  FsContext fs_ctx{options.allow_external_files};
+  tinygltf::FsCallbacks fs{fs_exists, fs_expand, fs_read, fs_write_bytes, &fs_ctx};
+  tinygltf::TinyGLTF loader;
+  loader.SetFsCallbacks(fs);
+  loader.SetImageLoader(keep_image_bytes_checked, &model);
+  std::string err, warn;
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+                                              static_cast<unsigned int>(bytes.size()), options.base_dir)
+                : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()),
+                                             options.base_dir);
+  } catch (const std::exception& e) {
+    ok = false;
+    err = e.what();
+  }
+  r.warning = one_line(warn);
+  if (!ok) {
+    model = tinygltf::Model();
+    return fail(err.empty() ? "malformed glTF" : err);
+  }
+  restore_draco_indices(model);
+  // Every bufferView inside its buffer: later stages copy views whole.
+  for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+    const auto& v = model.bufferViews[i];
+    const bool inside = v.buffer >= 0 && static_cast<size_t>(v.buffer) < model.buffers.size() &&
+                        v.byteOffset <= model.buffers[v.buffer].data.size() &&
+                        v.byteLength <= model.buffers[v.buffer].data.size() - v.byteOffset;
+    if (!inside) {
+      model = tinygltf::Model();
+      return fail("bufferView " + std::to_string(i) + " lies outside its buffer");
+    }
+  }
+  for (size_t i = 0; i < model.images.size(); ++i) {
+    auto& img = model.images[i];
+    // An image file that was named but not found is a missing input, not
+    // something to pass through; absolute URIs (http: ...) are not fetched
+    // and pass through as they are.
+    if (img.image.empty() && img.bufferView < 0 && !img.uri.empty() && !is_data_uri(img.uri) &&
+        !has_uri_scheme(img.uri)) {
+      model = tinygltf::Model();
+      return fail("image " + std::to_string(i) + " '" + img.uri + "' cannot be loaded" +
+                  (options.allow_external_files ? "" : " (external files are not allowed here)"));
+    }
+    if (img.mimeType.empty()) img.mimeType = mime_for_bytes(img.image, {});
+  }
+  r.ok = true;
+  return r;
+}
+
 GltfReadResult read_gltf(const std::string& path, tinygltf::Model& model) {
   GltfReadResult r;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) {
+    r.error = "cannot open " + path + ": no such file";
+    return r;
+  }
+  if (!fs::is_regular_file(path, ec)) {
+    r.error = "cannot read " + path + ": not a regular file";
+    return r;
+  }
   std::ifstream in(path, std::ios::binary);
   if (!in) {
     r.error = "cannot open " + path;
     return r;
   }
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.empty()) {
-    r.error = "cannot read " + path + ": the file is empty";
-    return r;
-  }
-  const bool binary = bytes.size() >= 4 && bytes.compare(0, 4, "glTF") == 0;
-  std::string base_dir = std::filesystem::path(path).parent_path().string();
-  if (base_dir.empty()) base_dir = ".";
-
-  // Park Draco index accessors (see park_draco_indices), rebuilding the GLB
-  // container around the patched JSON when needed.
-  if (binary && bytes.size() >= 20) {
-    const uint32_t json_len = read_u32(bytes, 12);
-    if (read_u32(bytes, 16) == 0x4E4F534Au && json_len <= bytes.size() - 20) {
-      std::string json = bytes.substr(20, json_len);
-      if (park_draco_indices(json)) {
-        while (json.size() % 4) json.push_back(' ');
-        const std::string rest = bytes.substr(20 + json_len);
-        std::string glb = "glTF";
-        put_u32(glb, 2);
-        put_u32(glb, static_cast<uint32_t>(12 + 8 + json.size() + rest.size()));
-        put_u32(glb, static_cast<uint32_t>(json.size()));
-        put_u32(glb, 0x4E4F534Au);
-        glb += json;
-        glb += rest;
-        bytes.swap(glb);
-      }
-    }
-  } else if (!binary) {
-    park_draco_indices(bytes);
-  }
-
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(keep_image_bytes, nullptr);
-  std::string err, warn;
-  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
-                                                 static_cast<unsigned int>(bytes.size()), base_dir)
-                   : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
-                                                static_cast<unsigned int>(bytes.size()), base_dir);
-  r.warning = one_line(warn);
-  if (!ok) {
-    r.error = "cannot read " + path + ": " + one_line(err.empty() ? "malformed glTF" : err);
-    return r;
-  }
-  restore_draco_indices(model);
-  for (auto& img : model.images) {
-    if (img.mimeType.empty()) img.mimeType = mime_for_bytes(img.image, {});
-  }
-  r.ok = true;
-  return r;
+  GltfReadOptions options;
+  options.name = path;
+  options.base_dir = fs::path(path).parent_path().string();
+  if (options.base_dir.empty()) options.base_dir = ".";
+  return read_gltf_memory(reinterpret_cast<const uint8_t*>(bytes.data()), bytes.size(), model, options);
 }
 
 void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced) {
@@ -354,38 +689,51 @@ void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced) {
 std::string write_gltf(tinygltf::Model& model, const std::string& path) {
   compact_buffers(model);
   const bool binary = ends_with(path, ".glb");
+  namespace fs = std::filesystem;
+  // Serialise the JSON without the buffer bytes, then fix it up with
+  // nlohmann: tinygltf 2.7 writes an object whose members are all defaults
+  // (e.g. a texture with no source) as null, which no reader accepts.
   tinygltf::TinyGLTF writer;
   std::ostringstream os;
-  if (binary) {
-    for (auto& b : model.buffers) b.uri.clear();
-    if (!writer.WriteGltfSceneToStream(&model, os, false, true)) return "cannot serialise " + path;
-    return write_atomically(path, os.str());
-  }
-  // JSON: serialise without the buffer bytes, then point buffer 0 at a .bin
-  // file beside the .gltf (a data URI would cost a third more bytes).
-  namespace fs = std::filesystem;
   std::vector<unsigned char> bin;
   if (!model.buffers.empty()) bin.swap(model.buffers[0].data);
-  if (!writer.WriteGltfSceneToStream(&model, os, true, false)) return "cannot serialise " + path;
+  for (auto& b : model.buffers) b.uri.clear();
+  const bool serialised = writer.WriteGltfSceneToStream(&model, os, !binary, false);
   if (!model.buffers.empty()) bin.swap(model.buffers[0].data);
+  if (!serialised) return "cannot serialise " + path;
   nlohmann::json doc;
+  std::string json_text;
   try {
     doc = nlohmann::json::parse(os.str());
+    for (auto it = doc.begin(); it != doc.end(); ++it) {
+      if (!it->is_array()) continue;
+      for (auto& element : *it)
+        if (element.is_null()) element = nlohmann::json::object();
+    }
+    if (!model.buffers.empty()) {
+      auto& b = doc["buffers"][0];
+      b.erase("uri");
+      if (!binary) b["uri"] = fs::path(path).stem().string() + ".bin";
+      b["byteLength"] = model.buffers[0].data.size();
+    }
+    json_text = binary ? doc.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace)
+                       : doc.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
   } catch (const std::exception& e) {
-    return std::string("cannot serialise ") + path + ": " + e.what();
+    return std::string("cannot serialise ") + path + ": " + one_line(e.what());
   }
+  if (binary) {
+    const auto& data = model.buffers.empty() ? bin : model.buffers[0].data;
+    return write_atomically(path, make_glb(std::move(json_text), data.data(), data.size()));
+  }
+  // JSON: buffer 0 goes to a .bin file beside the .gltf (a data URI would
+  // cost a third more bytes).
   if (!model.buffers.empty()) {
-    const std::string bin_name = fs::path(path).stem().string() + ".bin";
-    auto& b = doc["buffers"][0];
-    b.erase("uri");
-    b["uri"] = bin_name;
-    b["byteLength"] = model.buffers[0].data.size();
-    const fs::path bin_path = fs::path(path).parent_path() / bin_name;
+    const fs::path bin_path = fs::path(path).parent_path() / (fs::path(path).stem().string() + ".bin");
     std::string err = write_atomically(bin_path.string(), std::string(model.buffers[0].data.begin(),
                                                                       model.buffers[0].data.end()));
     if (!err.empty()) return err;
   }
-  return write_atomically(path, doc.dump(2) + "\n");
+  return write_atomically(path, json_text);
 }
 
 }  // namespace gltfwarp

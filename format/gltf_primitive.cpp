@@ -1,6 +1,7 @@
 #include "format/gltf_primitive.h"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace gltfwarp {
@@ -30,10 +31,9 @@ namespace {
 
 std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
                                  const tinygltf::Value& ext, PrimitiveGeometry& out) {
-  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber() || !ext.Has("attributes") ||
-      !ext.Get("attributes").IsObject())
+  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
     return std::string(kDracoExtension) + " object is malformed";
-  const int view = ext.Get("bufferView").GetNumberAsInt();
+  const int view = value_index(ext.Get("bufferView"));
   if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
     return std::string(kDracoExtension) + " names a missing bufferView";
   const auto& bv = model.bufferViews[view];
@@ -44,13 +44,14 @@ std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::P
   std::vector<DracoWanted> wanted;
   const auto& attrs = ext.Get("attributes");
   for (const auto& [semantic, acc_index] : prim.attributes) {
-    if (!attrs.Has(semantic)) continue;  // stored uncompressed beside Draco
     if (acc_index < 0 || static_cast<size_t>(acc_index) >= model.accessors.size())
       return "attribute " + semantic + " names a missing accessor";
+    if (!attrs.Has(semantic)) continue;  // stored uncompressed beside Draco
     const auto& acc = model.accessors[acc_index];
     DracoWanted w;
     w.semantic = semantic;
-    w.unique_id = attrs.Get(semantic).GetNumberAsInt();
+    w.unique_id = value_index(attrs.Get(semantic));
+    if (w.unique_id < 0) return std::string(kDracoExtension) + " gives attribute " + semantic + " a bad id";
     w.component_type = acc.componentType;
     w.components = component_count(acc.type);
     w.normalized = acc.normalized;
@@ -61,6 +62,7 @@ std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::P
   if (!d.error.empty()) return d.error;
   out.attributes = std::move(d.attributes);
   out.triangles = std::move(d.triangles);
+  if (!out.find("POSITION")) return "primitive has no POSITION";
   // Attributes stored uncompressed beside the Draco data.
   for (const auto& [semantic, acc_index] : prim.attributes) {
     if (attrs.Has(semantic)) continue;
@@ -126,6 +128,14 @@ void write_primitive_plain(tinygltf::Model& model, tinygltf::Primitive& prim, co
 std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
                                   const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
                                   size_t& draco_bytes) {
+  // Draco quantizes over each attribute's range: one NaN or infinity makes
+  // every value garbage (and its float-to-int casts undefined).
+  for (const auto& a : geom.attributes) {
+    if (a.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) continue;
+    for (size_t e = 0; e < a.count(); ++e)
+      for (int i = 0; i < a.components; ++i)
+        if (!std::isfinite(a.get(e, i))) return "attribute " + a.semantic + " holds a NaN or infinite value";
+  }
   DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options);
   if (!enc.error.empty()) return enc.error;
   // Decode our own bytes: the decoder's mesh (order, quantized values) is the
@@ -197,6 +207,51 @@ void retire_extension_if_unused(tinygltf::Model& model, const std::string& name)
     for (const auto& prim : mesh.primitives)
       if (prim.extensions.count(name)) return;
   auto drop = [&](std::vector<std::string>& list) { list.erase(std::remove(list.begin(), list.end(), name), list.end()); };
+  drop(model.extensionsUsed);
+  drop(model.extensionsRequired);
+}
+
+namespace {
+
+// Whether glTF 2.0 core allows this attribute's component type; anything
+// else needs KHR_mesh_quantization.
+bool core_attribute_type(const std::string& semantic, const tinygltf::Accessor& acc, bool morph_target) {
+  const int ct = acc.componentType;
+  const bool f = ct == TINYGLTF_COMPONENT_TYPE_FLOAT;
+  if (morph_target) return f;
+  const bool unorm8 = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && acc.normalized;
+  const bool unorm16 = ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT && acc.normalized;
+  auto is = [&](const char* prefix) { return semantic.rfind(prefix, 0) == 0; };
+  if (semantic == "POSITION" || semantic == "NORMAL" || semantic == "TANGENT") return f;
+  if (is("TEXCOORD_") || is("COLOR_") || is("WEIGHTS_")) return f || unorm8 || unorm16;
+  if (is("JOINTS_"))
+    return !acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+  return true;  // application-specific attributes (_FOO) are unconstrained
+}
+
+}  // namespace
+
+bool needs_mesh_quantization(const tinygltf::Model& model) {
+  auto check = [&](const std::string& semantic, int idx, bool target) {
+    return idx >= 0 && static_cast<size_t>(idx) < model.accessors.size() &&
+           !core_attribute_type(semantic, model.accessors[idx], target);
+  };
+  for (const auto& mesh : model.meshes)
+    for (const auto& prim : mesh.primitives) {
+      for (const auto& [s, idx] : prim.attributes)
+        if (check(s, idx, false)) return true;
+      for (const auto& target : prim.targets)
+        for (const auto& [s, idx] : target)
+          if (check(s, idx, true)) return true;
+    }
+  return false;
+}
+
+void retire_mesh_quantization_if_unused(tinygltf::Model& model) {
+  if (needs_mesh_quantization(model)) return;
+  auto drop = [&](std::vector<std::string>& list) {
+    list.erase(std::remove(list.begin(), list.end(), std::string(kMeshQuantization)), list.end());
+  };
   drop(model.extensionsUsed);
   drop(model.extensionsRequired);
 }

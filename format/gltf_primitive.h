@@ -14,6 +14,7 @@
 namespace gltfwarp {
 
 inline constexpr const char* kDracoExtension = "KHR_draco_mesh_compression";
+inline constexpr const char* kMeshQuantization = "KHR_mesh_quantization";
 
 struct PrimitiveGeometry {
   std::vector<VertexAttribute> attributes;  // semantic set, one count
@@ -29,7 +30,7 @@ bool is_triangle_mode(int mode);
 
 // Reads the primitive's attributes and triangles, decoding Draco if the
 // primitive carries KHR_draco_mesh_compression. Empty string or a one-line
-// error.
+// error; every accessor and index is checked.
 std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& out);
 
 // Replaces the primitive's attributes and indices by new plain accessors
@@ -39,7 +40,8 @@ void write_primitive_plain(tinygltf::Model& model, tinygltf::Primitive& prim, co
 
 // Encodes with Draco and points the primitive at the compressed bufferView;
 // the accessors keep type and count but no bufferView, as the extension
-// prescribes. `decoded` receives what every decoder will see. `extra_empty`
+// prescribes. `decoded` receives what every decoder will see. Float
+// attributes holding NaN or infinities are refused. `extra_empty`
 // names attributes to declare without data (e.g. TEXCOORD_0 rebuilt by us).
 std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
                                   const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
@@ -52,5 +54,12 @@ int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes);
 void declare_extension(tinygltf::Model& model, const std::string& name, bool required);
 // Removes `name` from extensionsUsed/Required when no primitive uses it any more.
 void retire_extension_if_unused(tinygltf::Model& model, const std::string& name);
+
+// Whether any mesh attribute (or morph target) has a component type that
+// glTF 2.0 core does not allow, i.e. still needs KHR_mesh_quantization.
+bool needs_mesh_quantization(const tinygltf::Model& model);
+// Removes KHR_mesh_quantization from extensionsUsed/Required when nothing
+// needs it any more (e.g. the only quantized attribute was TEXCOORD_0).
+void retire_mesh_quantization_if_unused(tinygltf::Model& model);
 
 }  // namespace gltfwarp
