@@ -21,7 +21,9 @@ void expect_one_line_failure(const std::string& args, const std::string& must_co
   ASSERT_FALSE(out.empty()) << args;
   EXPECT_EQ(out.find('\n'), out.size() - 1) << "not one line: " << out;
   EXPECT_EQ(out.rfind("gltf-warp: ", 0), 0u) << out;
-  if (!must_contain.empty()) EXPECT_NE(out.find(must_contain), std::string::npos) << out;
+  if (!must_contain.empty()) {
+    EXPECT_NE(out.find(must_contain), std::string::npos) << out;
+  }
 }
 }  // namespace
 

@@ -36,7 +36,7 @@ TEST(GltfIo, WritesGlbAndGltfThatReadBackTheSame) {
     std::vector<size_t> image_bytes;
     for (const auto& img : m.images) image_bytes.push_back(img.image.size());
     const std::string dir = scratch_dir("io-" + model.name);
-    for (const std::string out : {dir + "/a.glb", dir + "/b.gltf"}) {
+    for (const std::string& out : {dir + "/a.glb", dir + "/b.gltf"}) {
       tinygltf::Model copy = m;
       ASSERT_EQ(write_gltf(copy, out), "");
       tinygltf::Model back;

@@ -317,21 +317,17 @@ TEST(Pack, BadInput) {
   EXPECT_EQ(pack_atlas(prims, opt, res), PackStatus::bad_input);
 }
 
-TEST(Pack, ThousandsOfPatchesAreFast) {
+// Speed is measured in benchmarks/bench_warp.cpp, never asserted here.
+TEST(Pack, ThousandsOfPatchesPackWithoutOverlap) {
   const GenPrim a = generate(3000, 6, 3.0);
   const PackPrimitive prims[1] = {a.view()};
   PackOptions opt;
   opt.texel_scale = 6.0;
   PackResult res;
-  const std::clock_t c0 = std::clock();  // CPU time: the box is shared, wall time is noisy
   ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
-  const double cpu = double(std::clock() - c0) / CLOCKS_PER_SEC;
   EXPECT_EQ(res.report.overlap_texels, 0u);
   EXPECT_EQ(res.report.outside_texels, 0u);
-  std::printf("3000 patches: %.1f ms wall, %.1f ms CPU, fill %.3f, atlas %ux%u\n",
-              res.report.seconds * 1e3, cpu * 1e3, res.report.fill, res.report.atlas_width,
-              res.report.atlas_height);
-  EXPECT_LT(cpu, 3.0);
+  EXPECT_EQ(res.report.patch_count, 3000u);
 }
 
 }  // namespace
