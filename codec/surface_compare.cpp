@@ -9,6 +9,7 @@
 
 #include "codec/corner_match.h"
 #include "codec/image_io.h"
+#include "codec/warp.h"
 #include "format/gltf_materials.h"
 #include "format/gltf_primitive.h"
 
@@ -16,11 +17,32 @@ namespace gltfwarp {
 namespace {
 
 struct SlotImage {
-  OIIO::ImageBuf pixels;
-  OIIO::ImageBuf::WrapMode wrap = OIIO::ImageBuf::WrapPeriodic;
+  OIIO::ImageBuf pixels;  // float; colour channels in linear light for sRGB slots
+  OIIO::ImageBuf::WrapMode wrap_s = OIIO::ImageBuf::WrapPeriodic, wrap_t = OIIO::ImageBuf::WrapPeriodic;
+  bool srgb = false;
   std::array<double, 6> transform{1, 0, 0, 0, 1, 0};
   bool ok = false;
 };
+
+// Folds a coordinate into [0, 1] as a sampler wrap mode does.
+double fold(double x, OIIO::ImageBuf::WrapMode w) {
+  if (w == OIIO::ImageBuf::WrapClamp) return std::clamp(x, 0.0, 1.0);
+  if (w == OIIO::ImageBuf::WrapMirror) {
+    const double m = x - 2.0 * std::floor(x / 2.0);
+    return m <= 1.0 ? m : 2.0 - m;
+  }
+  return x - std::floor(x);
+}
+
+// Bilinear sample with glTF's per-axis wrap (OIIO's interppixel takes one mode).
+void sample(const SlotImage& s, double u, double v, float* out) {
+  const bool same = s.wrap_s == s.wrap_t;
+  const double fu = same ? u : fold(u, s.wrap_s), fv = same ? v : fold(v, s.wrap_t);
+  s.pixels.interppixel_NDC(static_cast<float>(fu), static_cast<float>(fv), out,
+                           same ? s.wrap_s : OIIO::ImageBuf::WrapClamp);
+  if (s.srgb)
+    for (int c = 0; c < std::min(3, s.pixels.nchannels()); ++c) out[c] = linear_to_srgb(std::clamp(out[c], 0.0f, 1.0f));
+}
 
 OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
   if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return OIIO::ImageBuf::WrapClamp;
@@ -35,10 +57,24 @@ SlotImage slot_image(const tinygltf::Model& m, int material, const std::string& 
     const int img = texture_image(m, slot.texture);
     if (img < 0) return s;
     std::string err;
-    if (!decode_image(m.images[img].image, s.pixels, err)) return s;
+    OIIO::ImageBuf raw;
+    if (!decode_image(m.images[img].image, raw, err)) return s;
+    // A GPU filters sRGB textures in linear light: interpolate there too.
+    s.srgb = slot.color_space == ColorSpace::srgb;
+    OIIO::ImageSpec spec = raw.spec();
+    spec.set_format(OIIO::TypeDesc::FLOAT);
+    s.pixels.reset(spec);
+    std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
+    raw.get_pixels(raw.roi(), OIIO::TypeDesc::FLOAT, px.data());
+    if (s.srgb)
+      for (size_t i = 0; i < px.size(); ++i)
+        if (static_cast<int>(i % spec.nchannels) < 3) px[i] = srgb_to_linear(px[i]);
+    s.pixels.set_pixels(s.pixels.roi(), OIIO::TypeDesc::FLOAT, px.data());
     const int sampler = m.textures[slot.texture].sampler;
-    // Wrap is per axis in glTF; OIIO's interppixel takes one mode, so use S's.
-    if (sampler >= 0 && static_cast<size_t>(sampler) < m.samplers.size()) s.wrap = oiio_wrap(m.samplers[sampler].wrapS);
+    if (sampler >= 0 && static_cast<size_t>(sampler) < m.samplers.size()) {
+      s.wrap_s = oiio_wrap(m.samplers[sampler].wrapS);
+      s.wrap_t = oiio_wrap(m.samplers[sampler].wrapT);
+    }
     s.transform = slot.transform;
     s.ok = true;
     return s;
@@ -113,8 +149,8 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
           }
           const auto& t = si.transform;
           const double tu = t[0] * su + t[1] * sv + t[2], tv = t[3] * su + t[4] * sv + t[5];
-          si.pixels.interppixel_NDC(static_cast<float>(tu), static_cast<float>(tv), a.data(), si.wrap);
-          di.pixels.interppixel_NDC(static_cast<float>(du), static_cast<float>(dv), b.data(), di.wrap);
+          sample(si, tu, tv, a.data());
+          sample(di, du, dv, b.data());
           for (int c = 0; c < channels; ++c) {
             const double d = 255.0 * (a[c] - b[c]);
             sq += d * d;
