@@ -1,4 +1,6 @@
 #include <chrono>
+#include <cmath>
+#include <stdexcept>
 #include <cstdio>
 #include <filesystem>
 
@@ -11,7 +13,8 @@ namespace gltfwarp::cli {
 
 Runner add_encode(CLI::App& app) {
   struct Args {
-    std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep";
+    std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
+        texel_budget = "count";
     EncodeOptions opt;
     bool quiet = false, explicit_uvs = false;
   };
@@ -24,7 +27,13 @@ Runner add_encode(CLI::App& app) {
       ->default_val("compact")->check(CLI::IsMember({"compact", "greedy"}));
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
       ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
-  app.add_option("--texel-density", a->texel_density, "auto, or texels per model unit")->default_val("auto");
+  app.add_option("--texel-density", a->texel_density,
+                 "auto (keep the source's texels per unit), Nx (N times auto, e.g. 0.5x), or N texels per model unit")
+      ->default_val("auto");
+  app.add_option("--texel-budget", a->texel_budget,
+                 "what auto keeps: count (every source triangle's texels; repeated or mirrored UVs count per use), "
+                 "used (distinct source texels: smaller atlas, less detail), p90 (90th percentile density)")
+      ->default_val("count")->check(CLI::IsMember({"count", "used", "p90"}));
   app.add_option("--max-atlas-size", a->opt.max_atlas_size, "Largest atlas side in texels")
       ->default_val(4096)->check(CLI::Range(16, 65536));
   app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->default_val(4)->check(CLI::Range(0, 64));
@@ -45,13 +54,22 @@ Runner add_encode(CLI::App& app) {
     opt.greedy_partition = a->partition == "greedy";
     opt.implicit_uvs = !a->explicit_uvs;
     opt.image_format = a->image_format;
+    opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
+                       : a->texel_budget == "p90" ? DensityMode::percentile
+                                                  : DensityMode::preserve_texel_count;
     if (a->texel_density != "auto") {
+      const bool relative = !a->texel_density.empty() && a->texel_density.back() == 'x';
+      double value = 0;
       try {
-        opt.texel_density = std::stod(a->texel_density);
+        size_t used = 0;
+        value = std::stod(a->texel_density, &used);
+        if (used != a->texel_density.size() - (relative ? 1 : 0)) throw std::invalid_argument("trailing");
       } catch (...) {
-        return fail("--texel-density takes 'auto' or a positive number, not '" + a->texel_density + "'", 2);
+        return fail("--texel-density takes 'auto', 'Nx' or a positive number, not '" + a->texel_density + "'", 2);
       }
-      if (!(opt.texel_density > 0)) return fail("--texel-density must be positive", 2);
+      if (!(value > 0) || !std::isfinite(value)) return fail("--texel-density must be positive", 2);
+      if (relative) opt.texel_density_factor = value;
+      else opt.texel_density = value;
     }
     opt.progress = progress;
     const auto t0 = std::chrono::steady_clock::now();

@@ -10,6 +10,7 @@
 #include <tiny_gltf.h>
 
 #include "codec/draco_geometry.h"
+#include "codec/texel_density.h"
 
 namespace gltfwarp {
 
@@ -19,7 +20,9 @@ struct EncodeOptions {
   bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
   double tau = 1.3;               // distortion bound of every triangle
   bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
-  double texel_density = 0;       // texels per model unit; 0 = measured from the source
+  double texel_density = 0;       // texels per model unit; 0 = measured from the source (below)
+  DensityMode texel_budget = DensityMode::preserve_texel_count;  // how "measured" counts source texels
+  double texel_density_factor = 1.0;  // multiplies the measured density (e.g. 0.5 for half the detail)
   uint32_t max_atlas_size = 4096; // largest atlas side in texels
   int gutter = 4;                 // texels of padding around every patch
   bool power_of_two = false;      // atlas sides as powers of two (else multiples of 4)
