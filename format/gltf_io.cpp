@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -324,8 +325,35 @@ std::optional<uint64_t> json_uint(const nlohmann::json& o, const char* key, std:
 // every image's bufferView lies inside its buffer's declared byteLength
 // (tinygltf hands the image loader a pointer and length without checking),
 // and buffer/image URIs are data URIs or relative file names.
+// Index-like members given as floats out of int's range ("texCoord": 1e30):
+// tinygltf keeps them as doubles in extension Values, and GetNumberAsInt on
+// them is undefined behaviour wherever they are read. Extras are user data
+// and are not inspected. Depth is bounded by kMaxJsonDepth.
+std::string find_bad_index(const nlohmann::json& j) {
+  static const std::set<std::string> keys = {"index", "texCoord", "source", "bufferView", "sampler", "buffer",
+                                             "material", "mesh", "skin", "camera", "node", "indices", "input",
+                                             "output", "scene", "count", "byteOffset", "byteLength", "byteStride"};
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (it.key() == "extras") continue;
+      if (it->is_number_float() && keys.count(it.key())) {
+        const double d = it->get<double>();
+        if (!(d >= double(std::numeric_limits<int>::min()) && d <= double(std::numeric_limits<int>::max())) ||
+            d != std::floor(d))
+          return "'" + it.key() + "' is " + it->dump() + ", not an integer index";
+      }
+      if (std::string err = find_bad_index(*it); !err.empty()) return err;
+    }
+  } else if (j.is_array()) {
+    for (const auto& e : j)
+      if (std::string err = find_bad_index(e); !err.empty()) return err;
+  }
+  return {};
+}
+
 std::string prevalidate(const nlohmann::json& doc) {
   if (!doc.is_object()) return "the JSON root is not an object";
+  if (std::string err = find_bad_index(doc); !err.empty()) return err;
   const auto arr = [&](const char* key) -> const nlohmann::json* {
     auto it = doc.find(key);
     return it != doc.end() && it->is_array() ? &*it : nullptr;
@@ -557,9 +585,10 @@ GltfReadResult read_gltf_memory(const uint8_t* data, size_t size, tinygltf::Mode
     // and pass through as they are.
     if (img.image.empty() && img.bufferView < 0 && !img.uri.empty() && !is_data_uri(img.uri) &&
         !has_uri_scheme(img.uri)) {
-      model = tinygltf::Model();
-      return fail("image " + std::to_string(i) + " '" + img.uri + "' cannot be loaded" +
-                  (options.allow_external_files ? "" : " (external files are not allowed here)"));
+      const std::string why = "image " + std::to_string(i) + " '" + img.uri + "' cannot be loaded" +
+                              (options.allow_external_files ? "" : " (external files are not allowed here)");
+      model = tinygltf::Model();  // img dangles from here on
+      return fail(why);
     }
     if (img.mimeType.empty()) img.mimeType = mime_for_bytes(img.image, {});
   }
