@@ -65,6 +65,26 @@ int add_clamp_sampler(tinygltf::Model& model) {
 
 }  // namespace
 
+// Largest image (by texel count) that a material samples through
+// TEXCOORD_0; 0 x 0 when none has a readable size. Also used by
+// prepare_implicit_primitive (implicit_uv_encoder.cpp) for the partition's
+// density rule, so both see the same per-face density.
+void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height) {
+  width = height = 0;
+  for (const auto& s : texture_slots(model, material)) {
+    if (s.tex_coord != 0) continue;
+    const int image = texture_image(model, s.texture);
+    if (image < 0 || static_cast<size_t>(image) >= model.images.size()) continue;
+    int iw = 0, ih = 0;
+    std::string err;
+    if (image_size(model.images[image].image, iw, ih, err) && iw > 0 && ih > 0 &&
+        uint64_t(iw) * uint64_t(ih) > uint64_t(width) * height) {
+      width = static_cast<uint32_t>(iw);
+      height = static_cast<uint32_t>(ih);
+    }
+  }
+}
+
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                 EncodeReport& report) {
   int clamp_sampler = -1;
@@ -80,16 +100,7 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       const auto& ip = plan.prims[m];
       const auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
       uint32_t w = 0, h = 0;
-      for (const auto& s : texture_slots(model, prim.material)) {
-        if (s.tex_coord != 0) continue;
-        const auto& img = model.images[texture_image(model, s.texture)];
-        int iw = 0, ih = 0;
-        std::string err;
-        if (image_size(img.image, iw, ih, err) && uint64_t(iw) * ih > uint64_t(w) * h) {
-          w = static_cast<uint32_t>(iw);
-          h = static_cast<uint32_t>(ih);
-        }
-      }
+      largest_uv0_image(model, prim.material, w, h);
       dens.push_back({&ip.tri, ip.source_uv, w, h});
     }
     double scale = options.texel_density;

@@ -38,6 +38,38 @@ namespace {
 
 double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(length3_sq(m, u, w)); }
 
+// The density rule (EmbedOptions::face_density): ln of each face's source
+// texel density (NaN = unknown) and the largest spread ln(max_density_ratio)
+// allowed inside one region or patch.
+struct DensityRule {
+  bool active = false;
+  double limit = 0;
+  std::vector<double> ln;
+  double at(uint32_t f) const { return active ? ln[f] : std::numeric_limits<double>::quiet_NaN(); }
+  // Running [lo, hi] of a face set; true if face f can join it.
+  bool admits(double lo, double hi, uint32_t f) const {
+    const double d = at(f);
+    return !(d == d) || !(lo <= hi) || std::max(hi, d) - std::min(lo, d) <= limit;
+  }
+  static void extend(double& lo, double& hi, double d) {
+    if (d == d) lo = std::min(lo, d), hi = std::max(hi, d);
+  }
+};
+
+DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
+  DensityRule r;
+  if (o.face_density.size() != nf || !(o.max_density_ratio > 1) || !std::isfinite(o.max_density_ratio))
+    return r;
+  r.active = true;
+  r.limit = std::log(o.max_density_ratio);
+  r.ln.resize(nf);
+  for (uint32_t f = 0; f < nf; ++f) {
+    const double d = o.face_density[f];
+    r.ln[f] = d > 0 && std::isfinite(d) ? std::log(d) : std::numeric_limits<double>::quiet_NaN();
+  }
+  return r;
+}
+
 double face_area3(const TriMesh& m, uint32_t f) {
   const float* p = m.positions.data();
   const uint32_t* t = &m.indices[3 * f];
@@ -403,8 +435,12 @@ double fill_from_vertices(const Grower& g, std::span<const uint32_t> faces,
 // order as region seeds; each region grows by geodesic (centroid-to-centroid)
 // distance, admitting a face while its normal stays within the cone around
 // the region's running area-weighted mean normal. Degenerate faces form
-// their own regions. O(n log n).
+// their own regions. With the density rule, a face joins only while the
+// region's density spread stays within the limit. With `within`, regions
+// split those labels (a face joins only faces of its own label) and
+// cone_deg >= 180 turns the normal test off. O(n log n).
 void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double cone_deg,
+                     const DensityRule& dr, const std::vector<uint32_t>* within,
                      std::vector<uint32_t>& region) {
   const uint32_t nf = m.face_count();
   std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
@@ -439,6 +475,7 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
       continue;
     }
     double mean[3] = {0, 0, 0};
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
     heap.push({0.0, s});
     dist[s] = 0;
     tried[s] = lab + 1;
@@ -447,10 +484,12 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
       heap.pop();
       if (region[f] != kNone || d > dist[f]) continue;
       const double ml = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
-      if (ml > 0) {
+      if (ml > 0 && cone_deg < 180) {
         const double c = (nrm[3 * f] * mean[0] + nrm[3 * f + 1] * mean[1] + nrm[3 * f + 2] * mean[2]) / ml;
         if (c < cos_cone) continue;
       }
+      if (!dr.admits(lo, hi, f)) continue;
+      DensityRule::extend(lo, hi, dr.at(f));
       region[f] = lab;
       for (int k = 0; k < 3; ++k) mean[k] += area[f] * nrm[3 * f + k];
       for (int k = 0; k < 3; ++k) {
@@ -458,6 +497,7 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
         if (o == kNone) continue;
         const uint32_t g = o / 3;
         if (region[g] != kNone || !(area[g] > 0) || face_has_repeated_vertex(m, g)) continue;
+        if (within && (*within)[g] != (*within)[s]) continue;
         const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
                      dz = cen[3 * g + 2] - cen[3 * f + 2];
         const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz);
@@ -476,7 +516,8 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
 // that grows with the normal's deviation from the seed's normal. Regions
 // become Voronoi-like cells: compact, with short boundaries.
 void lloyd_regions(const TriMesh& m, const std::vector<uint32_t>& opp, int iterations,
-                   double normal_weight, std::vector<uint32_t>& region) {
+                   double normal_weight, const DensityRule& dr, double density_weight,
+                   std::vector<uint32_t>& region) {
   const uint32_t nf = m.face_count();
   std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
   const float* p = m.positions.data();
@@ -548,7 +589,15 @@ void lloyd_regions(const TriMesh& m, const std::vector<uint32_t>& opp, int itera
         const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
                      dz = cen[3 * g + 2] - cen[3 * f + 2];
         const double dev = 1.0 - (nrm[3 * g] * ns[0] + nrm[3 * g + 1] * ns[1] + nrm[3 * g + 2] * ns[2]);
-        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz) * (1.0 + normal_weight * dev);
+        double cost = 1.0 + normal_weight * dev;
+        // Density: crossing into faces of another texel density costs more,
+        // so cells end at density jumps (the split pass enforces the rule).
+        const double ls = dr.at(seed_of_owner[r]), lg = dr.at(g);
+        if (ls == ls && lg == lg) {
+          const double x = (lg - ls) / dr.limit;
+          cost += density_weight * x * x;
+        }
+        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz) * cost;
         if (nd < dist[g]) {
           dist[g] = nd;
           owner[g] = r;
@@ -608,7 +657,7 @@ void patch_cone(const TriMesh& m, std::span<const uint32_t> faces, double out[4]
 // when the union regrows completely from its lowest face (so it replays
 // within tau, unflipped and overlap-free) and stays compact.
 void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptions& opt,
-                   std::vector<std::vector<uint32_t>>& patches) {
+                   const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
   const uint32_t np = static_cast<uint32_t>(patches.size());
   std::vector<double> fill(np, 1.0);
   std::vector<Vec2> scratch;
@@ -672,6 +721,12 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
       }
       std::vector<uint32_t>& A = patches[pr.a];
       std::vector<uint32_t>& B = patches[pr.b];
+      if (dr.active) {  // the union must keep the density rule
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (uint32_t f : A) DensityRule::extend(lo, hi, dr.at(f));
+        for (uint32_t f : B) DensityRule::extend(lo, hi, dr.at(f));
+        if (lo <= hi && hi - lo > dr.limit) continue;
+      }
       unite.assign(A.begin(), A.end());
       unite.insert(unite.end(), B.begin(), B.end());
       saved.resize(unite.size() * 6);
@@ -731,10 +786,16 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
   Grower g(mesh, vf, opt);
   std::vector<std::vector<uint32_t>> patches;
   if (opt.mode == PartitionMode::compact) {
-    cluster_regions(mesh, opp, opt.region_cone_deg, g.region);
-    lloyd_regions(mesh, opp, opt.lloyd_iterations, opt.normal_weight, g.region);
+    const DensityRule dr = make_density_rule(nf, opt);
+    cluster_regions(mesh, opp, opt.region_cone_deg, dr, nullptr, g.region);
+    lloyd_regions(mesh, opp, opt.lloyd_iterations, opt.normal_weight, dr, opt.density_weight, g.region);
+    if (dr.active) {
+      // Lloyd cells may straddle a density jump: split them by the rule.
+      const std::vector<uint32_t> cells = g.region;
+      cluster_regions(mesh, opp, 180.0, dr, &cells, g.region);
+    }
     grow_all(g, patches);
-    if (opt.merge) merge_patches(g, opp, opt, patches);
+    if (opt.merge) merge_patches(g, opp, opt, dr, patches);
   } else {
     grow_all(g, patches, /*plain=*/true);
   }

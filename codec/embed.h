@@ -31,6 +31,15 @@ struct EmbedOptions {
   double merge_min_fill = 0.55;         // compact: a merge must keep area/min-rect >= this ...
   double merge_max_cone_deg = 140.0;    // compact: skip merge trials whose normals spread wider
   uint32_t merge_small_faces = 12;      // ... unless the smaller part has at most this many faces
+  // Compact: source texel density per face (texels per model unit, from
+  // triangle_texel_density; 0 or not finite = unknown). When given, no region
+  // and no merge puts two faces of known density whose densities differ by
+  // more than max_density_ratio into one patch, so the packer's per-patch
+  // scale can give densely textured parts (eyes, labels) their own detail.
+  std::span<const double> face_density;  // empty, or one per face
+  double max_density_ratio = 4.0;       // > 1; <= 1 or not finite disables the rule (2 splits
+                                        // the Duck's noisy UV map into 2x the patches, no gain)
+  double density_weight = 16.0;         // compact: Lloyd cost term w (ln(d/d_seed) / ln ratio)^2
 };
 
 // Quality of an embedding. All figures are over the faces of one mesh.

@@ -18,6 +18,10 @@
 #include "format/uvmap_codec.h"
 
 namespace gltfwarp {
+
+// Defined in atlas_group.cpp (the atlas's texel density uses the same image).
+void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height);
+
 namespace {
 
 struct UnionFind {
@@ -236,6 +240,13 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   EmbedOptions eo;
   eo.tau = options.tau;
   eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
+  // Density-aware partition: faces of very different source texel density
+  // land in different patches, so the per-patch scale can keep each one's detail.
+  uint32_t image_w = 0, image_h = 0;
+  largest_uv0_image(model, prim.material, image_w, image_h);
+  std::vector<double> face_density;
+  if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
+  eo.face_density = face_density;
   Embedding er = embed(ip.tri, eo);
   if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
 

@@ -10,6 +10,7 @@
 #include "codec/embed.h"
 #include "codec/geometry2d.h"
 #include "codec/shapes.h"
+#include "codec/texel_density.h"
 
 namespace gltfwarp {
 namespace {
@@ -191,6 +192,90 @@ TEST(Embed, CompactBeatsGreedy) {
     EXPECT_GE(rc.fill, rg.fill - 0.1);
     EXPECT_LE(rc.seam_edges, 1.2 * rg.seam_edges);
     EXPECT_LE(rc.holes, rg.holes);
+  }
+}
+
+// Largest density ratio inside any patch (faces of unknown density ignored).
+double worst_patch_density_ratio(const Embedding& e, const std::vector<double>& density) {
+  std::vector<double> lo(e.patch_count, 1e300), hi(e.patch_count, 0);
+  for (uint32_t f = 0; f < e.patch_of_face.size(); ++f) {
+    if (!(density[f] > 0)) continue;
+    lo[e.patch_of_face[f]] = std::min(lo[e.patch_of_face[f]], density[f]);
+    hi[e.patch_of_face[f]] = std::max(hi[e.patch_of_face[f]], density[f]);
+  }
+  double worst = 1;
+  for (uint32_t p = 0; p < e.patch_count; ++p)
+    if (hi[p] > 0) worst = std::max(worst, hi[p] / lo[p]);
+  return worst;
+}
+
+void expect_guarantees(const TriMesh& m, const Embedding& e, double tau) {
+  ASSERT_EQ(e.status, LayoutStatus::ok);
+  ASSERT_EQ(e.encoder_xy.size(), e.corner_xy.size());
+  EXPECT_EQ(std::memcmp(e.encoder_xy.data(), e.corner_xy.data(), e.corner_xy.size() * 8), 0);
+  const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, tau);
+  EXPECT_EQ(r.over_tau, 0u);
+  EXPECT_EQ(r.flipped, 0u);
+  EXPECT_EQ(count_overlaps(e), 0u);
+}
+
+// A plane whose source UVs give its right half 8x the texel density of its
+// left half: without densities it is one patch; with them no patch spans
+// the jump. A jump within the ratio (1.5x) still gives one patch.
+TEST(Embed, DensityJumpSplitsPatches) {
+  const ShapeMesh plane = make_plane(30, 20);
+  const TriMesh& m = plane.mesh;
+  auto right = [&](uint32_t f) {
+    double x = 0;
+    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
+    return x / 3 > 0.5;
+  };
+  for (double jump : {8.0, 1.5}) {
+    SCOPED_TRACE(jump);
+    std::vector<float> uv(plane.corner_uv.size());
+    for (uint32_t f = 0; f < m.face_count(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = m.indices[3 * f + k];
+        const double s = right(f) ? 0.1 * jump : 0.1;
+        uv[6 * f + 2 * k] = float(s * m.positions[3 * v]);
+        uv[6 * f + 2 * k + 1] = float(s * m.positions[3 * v + 1]);
+      }
+    const std::vector<double> density = triangle_texel_density(m, uv, 256, 256);
+    EmbedOptions opt;
+    opt.face_density = density;
+    const Embedding e = embed(m, opt);
+    expect_guarantees(m, e, opt.tau);
+    EXPECT_LE(worst_patch_density_ratio(e, density), opt.max_density_ratio * (1 + 1e-9));
+    if (jump > opt.max_density_ratio) {
+      EXPECT_GE(e.patch_count, 2u);
+      std::vector<int> side(e.patch_count, -1);  // every patch lies on one side of the jump
+      for (uint32_t f = 0; f < m.face_count(); ++f) {
+        int& s = side[e.patch_of_face[f]];
+        if (s < 0) s = right(f);
+        EXPECT_EQ(s, int(right(f))) << "face " << f;
+      }
+    } else {
+      EXPECT_EQ(e.patch_count, 1u);
+    }
+  }
+}
+
+// The rule holds on every shape for a density that varies smoothly over
+// 16x (bands of any width), and the guarantees still hold.
+TEST(Embed, DensityRuleOnEveryShape) {
+  for (const NamedShape& s : standard_shapes(1500)) {
+    SCOPED_TRACE(s.name);
+    const TriMesh& m = s.shape.mesh;
+    std::vector<double> density(m.face_count());
+    for (uint32_t f = 0; f < m.face_count(); ++f) {
+      const float* p = &m.positions[3 * m.indices[3 * f]];
+      density[f] = f % 97 == 0 ? 0.0 : 10.0 * std::exp2(2.0 + 2.0 * std::sin(3.0 * p[0] + 2.0 * p[2]));
+    }
+    EmbedOptions opt;
+    opt.face_density = density;
+    const Embedding e = embed(m, opt);
+    expect_guarantees(m, e, opt.tau);
+    EXPECT_LE(worst_patch_density_ratio(e, density), opt.max_density_ratio * (1 + 1e-9));
   }
 }
 
