@@ -104,7 +104,11 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       dens.push_back({&ip.tri, ip.source_uv, w, h});
     }
     double scale = options.texel_density;
-    if (!(scale > 0)) scale = auto_texel_scale(dens).texel_scale;
+    if (!(scale > 0)) {
+      TexelDensityOptions to;
+      to.mode = options.texel_budget;
+      scale = auto_texel_scale(dens, to).texel_scale * options.texel_density_factor;
+    }
 
     // Per-face source density lets the packer give each patch its own scale
     // step, so small, densely textured parts (eyes, labels) keep their detail.
