@@ -19,9 +19,6 @@
 
 namespace gltfwarp {
 
-// Defined in atlas_group.cpp (the atlas's texel density uses the same image).
-void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height);
-
 namespace {
 
 struct UnionFind {

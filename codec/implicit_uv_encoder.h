@@ -51,6 +51,11 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
                                        ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& report);
 
+// Largest image (by texel count) that `material` samples through TEXCOORD_0;
+// 0 x 0 when none has a readable size. The partition's density rule and the
+// atlas's texel density both measure against it.
+void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height);
+
 // Per group: pack, write bitstreams, rebuild UVs with decode_uvs, warp every
 // TEXCOORD_0 texture into the atlas and retarget the materials.
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
