@@ -98,6 +98,24 @@ int value_index(const tinygltf::Value& v) {
   return -1;
 }
 
+std::vector<float> VertexAttribute::to_floats() const {
+  std::vector<float> out(count() * static_cast<size_t>(components));
+  for (size_t e = 0; e < count(); ++e)
+    for (int i = 0; i < components; ++i) out[e * components + i] = get(e, i);
+  return out;
+}
+
+VertexAttribute VertexAttribute::from_floats(const std::string& semantic, int components,
+                                             const std::vector<float>& values) {
+  VertexAttribute a;
+  a.semantic = semantic;
+  a.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  a.components = components;
+  a.data.resize(values.size() * 4);
+  std::memcpy(a.data.data(), values.data(), a.data.size());
+  return a;
+}
+
 namespace {
 
 // Checks that `count` elements of `elem` bytes, `stride` apart, starting
@@ -255,29 +273,35 @@ std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primiti
   return {};
 }
 
-int add_accessor(tinygltf::Model& model, const VertexAttribute& attr, int target) {
+int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes, int target) {
   if (model.buffers.empty()) model.buffers.emplace_back();
   auto& buf = model.buffers[0].data;
   while (buf.size() % 4) buf.push_back(0);
   tinygltf::BufferView view;
   view.buffer = 0;
   view.byteOffset = buf.size();
-  view.byteLength = attr.data.size();
+  view.byteLength = bytes.size();
   view.target = target;
-  buf.insert(buf.end(), attr.data.begin(), attr.data.end());
+  buf.insert(buf.end(), bytes.begin(), bytes.end());
   model.bufferViews.push_back(view);
+  return static_cast<int>(model.bufferViews.size() - 1);
+}
 
+int add_accessor(tinygltf::Model& model, const VertexAttribute& attr, int target) {
   tinygltf::Accessor acc;
-  acc.bufferView = static_cast<int>(model.bufferViews.size() - 1);
+  acc.bufferView = add_buffer_view(model, attr.data, target);
   acc.componentType = attr.component_type;
   acc.normalized = attr.normalized;
   acc.type = accessor_type_for(attr.components);
   acc.count = attr.count();
   if (attr.semantic == "POSITION" && acc.count) {
-    acc.minValues.assign(3, std::numeric_limits<double>::infinity());
-    acc.maxValues.assign(3, -std::numeric_limits<double>::infinity());
+    // As many components as the data has (a malformed file may declare
+    // POSITION as anything).
+    const int n = attr.components;
+    acc.minValues.assign(n, std::numeric_limits<double>::infinity());
+    acc.maxValues.assign(n, -std::numeric_limits<double>::infinity());
     for (size_t e = 0; e < acc.count; ++e)
-      for (int i = 0; i < 3; ++i) {
+      for (int i = 0; i < n; ++i) {
         acc.minValues[i] = std::min<double>(acc.minValues[i], attr.get(e, i));
         acc.maxValues[i] = std::max<double>(acc.maxValues[i], attr.get(e, i));
       }

@@ -727,7 +727,22 @@ std::string write_gltf(tinygltf::Model& model, const std::string& path) {
   std::vector<unsigned char> bin;
   if (!model.buffers.empty()) bin.swap(model.buffers[0].data);
   for (auto& b : model.buffers) b.uri.clear();
+  // tinygltf casts the min/max of integer accessors to int, undefined past
+  // int's range (UNSIGNED_INT, or a hostile input's 1e30): we write those.
+  std::vector<std::pair<std::vector<double>, std::vector<double>>> int_bounds(model.accessors.size());
+  for (size_t i = 0; i < model.accessors.size(); ++i) {
+    auto& a = model.accessors[i];
+    if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) continue;
+    int_bounds[i] = {std::move(a.minValues), std::move(a.maxValues)};
+    a.minValues.clear();
+    a.maxValues.clear();
+  }
   const bool serialised = writer.WriteGltfSceneToStream(&model, os, !binary, false);
+  for (size_t i = 0; i < model.accessors.size(); ++i) {
+    if (model.accessors[i].componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) continue;
+    model.accessors[i].minValues = std::move(int_bounds[i].first);
+    model.accessors[i].maxValues = std::move(int_bounds[i].second);
+  }
   if (!model.buffers.empty()) bin.swap(model.buffers[0].data);
   if (!serialised) return "cannot serialise " + path;
   nlohmann::json doc;
@@ -738,6 +753,22 @@ std::string write_gltf(tinygltf::Model& model, const std::string& path) {
       if (!it->is_array()) continue;
       for (auto& element : *it)
         if (element.is_null()) element = nlohmann::json::object();
+    }
+    for (size_t i = 0; i < model.accessors.size(); ++i) {
+      const auto& a = model.accessors[i];
+      if (a.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT || !doc.contains("accessors")) continue;
+      auto bounds = [](const std::vector<double>& v) {
+        nlohmann::json out = nlohmann::json::array();
+        for (double d : v) {
+          if (!std::isfinite(d)) return nlohmann::json();
+          if (d == std::floor(d) && std::fabs(d) < 9e15) out.push_back(static_cast<int64_t>(d));
+          else out.push_back(d);
+        }
+        return out;
+      };
+      const nlohmann::json lo = bounds(a.minValues), hi = bounds(a.maxValues);
+      if (!a.minValues.empty() && !lo.is_null()) doc["accessors"][i]["min"] = lo;
+      if (!a.maxValues.empty() && !hi.is_null()) doc["accessors"][i]["max"] = hi;
     }
     if (!model.buffers.empty()) {
       auto& b = doc["buffers"][0];

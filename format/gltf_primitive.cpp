@@ -82,10 +82,11 @@ void fill_min_max(tinygltf::Accessor& acc, const VertexAttribute& a) {
   acc.minValues.clear();
   acc.maxValues.clear();
   if (a.semantic != "POSITION" || !a.count()) return;
-  acc.minValues.assign(3, std::numeric_limits<double>::infinity());
-  acc.maxValues.assign(3, -std::numeric_limits<double>::infinity());
+  const int n = a.components;  // 3 in any valid file
+  acc.minValues.assign(n, std::numeric_limits<double>::infinity());
+  acc.maxValues.assign(n, -std::numeric_limits<double>::infinity());
   for (size_t e = 0; e < a.count(); ++e)
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < n; ++i) {
       acc.minValues[i] = std::min<double>(acc.minValues[i], a.get(e, i));
       acc.maxValues[i] = std::max<double>(acc.maxValues[i], a.get(e, i));
     }
@@ -179,19 +180,6 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
   prim.extensions[kDracoExtension] = tinygltf::Value(ext);
   declare_extension(model, kDracoExtension, true);
   return {};
-}
-
-int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes) {
-  if (model.buffers.empty()) model.buffers.emplace_back();
-  auto& buf = model.buffers[0].data;
-  while (buf.size() % 4) buf.push_back(0);
-  tinygltf::BufferView view;
-  view.buffer = 0;
-  view.byteOffset = buf.size();
-  view.byteLength = bytes.size();
-  buf.insert(buf.end(), bytes.begin(), bytes.end());
-  model.bufferViews.push_back(view);
-  return static_cast<int>(model.bufferViews.size() - 1);
 }
 
 void declare_extension(tinygltf::Model& model, const std::string& name, bool required) {

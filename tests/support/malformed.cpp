@@ -772,6 +772,11 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
       auto& v = g.json["bufferViews"][our_view];
       v["byteLength"] = v["byteLength"].get<size_t>() / 2;
     });
+    // Found by fuzz_gltf_decode: a Draco POSITION declared VEC2 (min/max were
+    // written for three components).
+    edit("enc-position-vec2.glb", enc, [](Glb& g) {
+      g.json["accessors"][g.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]["type"] = "VEC2";
+    }, false);
     edit("enc-no-position.glb", enc, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"].erase("POSITION"); }, false);
     edit("enc-mode-lines.glb", enc, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["mode"] = 1; }, false);
   }
