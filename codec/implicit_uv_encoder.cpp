@@ -64,12 +64,6 @@ std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, Implici
   return {};
 }
 
-std::vector<float> positions_of(const VertexAttribute& a) {
-  std::vector<float> out(a.count() * 3);
-  for (size_t e = 0; e < a.count(); ++e)
-    for (int i = 0; i < 3; ++i) out[3 * e + i] = a.get(e, i);
-  return out;
-}
 
 }  // namespace
 
@@ -228,8 +222,8 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
 
   std::vector<uint32_t> point_to_vertex;
   ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
-  const CornerMatch match = match_corners(positions_of(*src_pos), geom.triangles,
-                                          positions_of(*ip.decoded.find("POSITION")), ip.decoded.triangles, tolerance);
+  const CornerMatch match = match_corners(src_pos->to_floats(), geom.triangles,
+                                          ip.decoded.find("POSITION")->to_floats(), ip.decoded.triangles, tolerance);
   ip.source_uv.resize(ip.decoded.triangles.size() * 2);
   for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
     for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];

@@ -12,24 +12,12 @@ namespace gltfwarp {
 
 namespace {
 
-std::vector<float> floats_of(const VertexAttribute& a) {
-  std::vector<float> out(a.count() * static_cast<size_t>(a.components));
-  for (size_t e = 0; e < a.count(); ++e)
-    for (int i = 0; i < a.components; ++i) out[e * a.components + i] = a.get(e, i);
-  return out;
-}
-
 // TANGENT (xyz, w) per vertex from the rebuilt UVs, MikkTSpace convention.
 VertexAttribute tangent_attribute(const PrimitiveGeometry& geom) {
-  const std::vector<float> t = vertex_tangents(floats_of(*geom.find("POSITION")), floats_of(*geom.find("NORMAL")),
-                                               floats_of(*geom.find("TEXCOORD_0")), geom.triangles);
-  VertexAttribute a;
-  a.semantic = "TANGENT";
-  a.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  a.components = 4;
-  a.data.resize(t.size() * 4);
-  std::memcpy(a.data.data(), t.data(), a.data.size());
-  return a;
+  return VertexAttribute::from_floats(
+      "TANGENT", 4,
+      vertex_tangents(geom.find("POSITION")->to_floats(), geom.find("NORMAL")->to_floats(),
+                      geom.find("TEXCOORD_0")->to_floats(), geom.triangles));
 }
 
 }  // namespace
@@ -69,13 +57,7 @@ void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corne
     a.data.swap(out);
   }
   geom.erase("TEXCOORD_0");
-  VertexAttribute t;
-  t.semantic = "TEXCOORD_0";
-  t.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  t.components = 2;
-  t.data.resize(uvs.size() * 4);
-  std::memcpy(t.data.data(), uvs.data(), t.data.size());
-  geom.attributes.push_back(std::move(t));
+  geom.attributes.push_back(VertexAttribute::from_floats("TEXCOORD_0", 2, uvs));
 }
 
 std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& geom) {

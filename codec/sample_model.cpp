@@ -41,16 +41,6 @@ ShapeMesh shape_by_name(const std::string& name, int faces, bool& ok) {
   return {};
 }
 
-VertexAttribute float_attribute(const std::string& semantic, int components, const std::vector<float>& values) {
-  VertexAttribute a;
-  a.semantic = semantic;
-  a.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  a.components = components;
-  a.data.resize(values.size() * 4);
-  std::memcpy(a.data.data(), values.data(), a.data.size());
-  return a;
-}
-
 }  // namespace
 
 std::vector<std::string> sample_model_names() {
@@ -86,8 +76,8 @@ std::string make_sample_model(const std::string& name, int faces, int texture_si
     }
   }
   PrimitiveGeometry geom;
-  geom.attributes.push_back(float_attribute("POSITION", 3, m.positions));
-  geom.attributes.push_back(float_attribute("NORMAL", 3, normals));
+  geom.attributes.push_back(VertexAttribute::from_floats("POSITION", 3, m.positions));
+  geom.attributes.push_back(VertexAttribute::from_floats("NORMAL", 3, normals));
   geom.triangles = m.indices;
   split_by_corner_uv(geom, shape.corner_uv);  // one vertex per (position, uv)
 

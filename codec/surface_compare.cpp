@@ -82,12 +82,6 @@ SlotImage slot_image(const tinygltf::Model& m, int material, const std::string& 
   return s;
 }
 
-std::vector<float> floats3(const VertexAttribute& a) {
-  std::vector<float> out(a.count() * 3);
-  for (size_t e = 0; e < a.count(); ++e)
-    for (int i = 0; i < 3; ++i) out[3 * e + i] = a.get(e, i);
-  return out;
-}
 
 }  // namespace
 
@@ -123,7 +117,7 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
           hi = std::max<double>(hi, spos->get(e, i));
         }
       const double tol = (hi - lo) / 16383.0 * 2.0 + 1e-9;
-      const CornerMatch match = match_corners(floats3(*spos), sg.triangles, floats3(*dpos), dg.triangles, tol);
+      const CornerMatch match = match_corners(spos->to_floats(), sg.triangles, dpos->to_floats(), dg.triangles, tol);
       r.unmatched_faces += match.unmatched_faces;
       r.primitives++;
       const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());

@@ -23,6 +23,10 @@ struct VertexAttribute {
   size_t count() const { return element_size() ? data.size() / element_size() : 0; }
   // Component i of element e as a float (normalized ints mapped as glTF says).
   float get(size_t e, int i) const;
+  // Every component as floats, `components` per element.
+  std::vector<float> to_floats() const;
+  // A FLOAT attribute holding `values` (`components` per element).
+  static VertexAttribute from_floats(const std::string& semantic, int components, const std::vector<float>& values);
 };
 
 // Largest element count an accessor may declare (2^28: far beyond any real
@@ -52,6 +56,9 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
 // against vertex_count.
 std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primitive& prim,
                            size_t vertex_count, std::vector<uint32_t>& triangles);
+
+// Appends raw bytes as a new bufferView of buffer 0 (4-byte aligned); returns its index.
+int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes, int target = 0);
 
 // Appends `data` as a new bufferView (+ accessor) in buffer 0 and returns the
 // accessor index. min/max are filled for POSITION as the spec requires.

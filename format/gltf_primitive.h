@@ -47,9 +47,6 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
                                   const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
                                   size_t& draco_bytes);
 
-// Appends raw bytes as a new bufferView of buffer 0; returns its index.
-int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes);
-
 // Adds extension `name` to extensionsUsed (and extensionsRequired when asked), once.
 void declare_extension(tinygltf::Model& model, const std::string& name, bool required);
 // Removes `name` from extensionsUsed/Required when no primitive uses it any more.
