@@ -6,7 +6,10 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
-#include <sstream>
+#include <cstdio>
+#include <string>
+
+#include <unistd.h>
 
 #include "codec/decoder.h"
 #include "format/gltf_io.h"
@@ -27,8 +30,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     if (err.find('\n') != std::string::npos) std::abort();
     return 0;
   }
-  tinygltf::TinyGLTF writer;
-  std::ostringstream os;
-  writer.WriteGltfSceneToStream(&model, os, false, true);
+  // Serialised through the CLI's own writer (it works around tinygltf's
+  // serialiser), into a per-process scratch file.
+  static const std::string out = "/tmp/gltf-warp-fuzz-" + std::to_string(getpid()) + ".glb";
+  if (gltfwarp::write_gltf(model, out).find('\n') != std::string::npos) std::abort();
+  std::remove(out.c_str());
   return 0;
 }
