@@ -8,6 +8,7 @@
 #include "codec/layout.h"
 #include "format/decode_uvs.h"
 #include "format/extension.h"
+#include "format/gltf_accessors.h"
 #include "format/gltf_io.h"
 #include "format/gltf_primitive.h"
 #include "format/uvmap_codec.h"
@@ -15,18 +16,26 @@
 namespace gltfwarp::cli {
 namespace {
 
+// The bufferView an extension object names, or -1 (value_index refuses
+// negatives, non-integers and out-of-int-range numbers).
+int named_view(const tinygltf::Model& m, const tinygltf::Value& ext) {
+  if (!ext.IsObject() || !ext.Has("bufferView")) return -1;
+  const int v = value_index(ext.Get("bufferView"));
+  return v >= 0 && static_cast<size_t>(v) < m.bufferViews.size() ? v : -1;
+}
+
 size_t view_bytes(const tinygltf::Model& m, const tinygltf::Value& ext) {
-  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Get("bufferView").IsNumber()) return 0;
-  const int v = ext.Get("bufferView").GetNumberAsInt();
-  return v >= 0 && static_cast<size_t>(v) < m.bufferViews.size() ? m.bufferViews[v].byteLength : 0;
+  const int v = named_view(m, ext);
+  return v >= 0 ? m.bufferViews[v].byteLength : 0;
 }
 
 std::span<const uint8_t> view_span(const tinygltf::Model& m, const tinygltf::Value& ext) {
-  const int v = ext.Get("bufferView").GetNumberAsInt();
+  const int v = named_view(m, ext);
+  if (v < 0) return {};
   const auto& bv = m.bufferViews[v];
-  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= m.buffers.size() ||
-      bv.byteOffset + bv.byteLength > m.buffers[bv.buffer].data.size())
-    return {};
+  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= m.buffers.size()) return {};
+  const size_t size = m.buffers[bv.buffer].data.size();
+  if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset) return {};
   return {m.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
 }
 

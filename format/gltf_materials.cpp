@@ -1,5 +1,7 @@
 #include "format/gltf_materials.h"
 
+#include "format/gltf_accessors.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -23,7 +25,7 @@ void read_transform(const tinygltf::ExtensionMap& exts, TextureSlot& s) {
     sx = num(t.Get("scale").Get(0), 1);
     sy = num(t.Get("scale").Get(1), 1);
   }
-  if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) s.tex_coord = t.Get("texCoord").GetNumberAsInt();
+  if (t.Has("texCoord") && t.Get("texCoord").IsNumber()) s.tex_coord = value_index(t.Get("texCoord"));
   const double c = std::cos(rot), si = std::sin(rot);
   // Translation * Rotation * Scale, as the extension's README defines it.
   s.transform = {c * sx, si * sy, ox, -si * sx, c * sy, oy};
@@ -87,8 +89,8 @@ std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int materia
       s.material = material;
       s.extension = ext_name;
       s.key = key;
-      s.texture = v.Get("index").GetNumberAsInt();
-      s.tex_coord = v.Has("texCoord") && v.Get("texCoord").IsNumber() ? v.Get("texCoord").GetNumberAsInt() : 0;
+      s.texture = value_index(v.Get("index"));
+      s.tex_coord = v.Has("texCoord") && v.Get("texCoord").IsNumber() ? value_index(v.Get("texCoord")) : 0;
       s.color_space = is_srgb_extension_slot(key) ? ColorSpace::srgb : ColorSpace::linear;
       s.normal_map = ends_with(key, "NormalTexture");
       if (v.Has("extensions") && v.Get("extensions").IsObject()) {
@@ -159,7 +161,7 @@ void for_each_texture_ref(tinygltf::Model& model, Fn&& fn) {
         auto info = v.template Get<tinygltf::Value::Object>();
         auto it = info.find("index");
         if (it == info.end() || !it->second.IsNumber()) continue;
-        int idx = it->second.GetNumberAsInt();
+        int idx = value_index(it->second);
         fn(idx);
         it->second = tinygltf::Value(idx);
         v = tinygltf::Value(info);
@@ -178,7 +180,7 @@ void for_each_image_ref(tinygltf::Model& model, Fn&& fn) {
     for (auto& [name, ext] : t.extensions) {
       if (!ext.IsObject() || !ext.Has("source") || !ext.Get("source").IsNumber()) continue;
       auto obj = ext.template Get<tinygltf::Value::Object>();
-      int idx = obj["source"].GetNumberAsInt();
+      int idx = value_index(obj["source"]);
       fn(idx);
       obj["source"] = tinygltf::Value(idx);
       ext = tinygltf::Value(obj);
@@ -215,7 +217,7 @@ void drop_unused_textures(tinygltf::Model& model, const std::vector<int>& candid
     if (model.textures[t].source >= 0) images.push_back(model.textures[t].source);
     for (const auto& [name, ext] : model.textures[t].extensions)
       if (ext.IsObject() && ext.Has("source") && ext.Get("source").IsNumber())
-        images.push_back(ext.Get("source").GetNumberAsInt());
+        images.push_back(value_index(ext.Get("source")));
   }
   drop_unreferenced(model.textures, candidates, [&](auto&& fn) { for_each_texture_ref(model, fn); });
   drop_unreferenced(model.images, images, [&](auto&& fn) { for_each_image_ref(model, fn); });
