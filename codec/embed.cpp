@@ -431,6 +431,37 @@ double fill_from_vertices(const Grower& g, std::span<const uint32_t> faces,
   return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
 }
 
+// Unit normal (zero for degenerate faces), centroid and area of every face,
+// in double: what the clustering passes measure distances and cones with.
+struct FaceFrames {
+  std::vector<double> normal, centroid, area;  // 3, 3 and 1 per face
+};
+
+FaceFrames face_frames(const TriMesh& m) {
+  const uint32_t nf = m.face_count();
+  FaceFrames fr;
+  fr.normal.assign(size_t{nf} * 3, 0.0);
+  fr.centroid.assign(size_t{nf} * 3, 0.0);
+  fr.area.assign(nf, 0.0);
+  const float* p = m.positions.data();
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t* t = &m.indices[3 * f];
+    double e1[3], e2[3];
+    for (int k = 0; k < 3; ++k) {
+      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+      fr.centroid[3 * f + k] = (double(p[3 * t[0] + k]) + p[3 * t[1] + k] + p[3 * t[2] + k]) / 3.0;
+    }
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                         e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    fr.area[f] = 0.5 * len;
+    if (len > 0 && std::isfinite(len))
+      for (int k = 0; k < 3; ++k) fr.normal[3 * f + k] = n[k] / len;
+  }
+  return fr;
+}
+
 // Compact mode, step 1: near-disc regions. Faces are taken in ascending
 // order as region seeds; each region grows by geodesic (centroid-to-centroid)
 // distance, admitting a face while its normal stays within the cone around
@@ -443,23 +474,8 @@ void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double 
                      const DensityRule& dr, const std::vector<uint32_t>* within,
                      std::vector<uint32_t>& region) {
   const uint32_t nf = m.face_count();
-  std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
-  const float* p = m.positions.data();
-  for (uint32_t f = 0; f < nf; ++f) {
-    const uint32_t* t = &m.indices[3 * f];
-    double e1[3], e2[3];
-    for (int k = 0; k < 3; ++k) {
-      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
-      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
-      cen[3 * f + k] = (double(p[3 * t[0] + k]) + p[3 * t[1] + k] + p[3 * t[2] + k]) / 3.0;
-    }
-    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                         e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    area[f] = 0.5 * len;
-    if (len > 0 && std::isfinite(len))
-      for (int k = 0; k < 3; ++k) nrm[3 * f + k] = n[k] / len;
-  }
+  const FaceFrames frames = face_frames(m);
+  const std::vector<double>&nrm = frames.normal, &cen = frames.centroid, &area = frames.area;
   const double cos_cone = std::cos(cone_deg * 3.14159265358979323846 / 180.0);
   region.assign(nf, kNone);
   std::vector<uint32_t> tried(nf, 0);
@@ -519,23 +535,8 @@ void lloyd_regions(const TriMesh& m, const std::vector<uint32_t>& opp, int itera
                    double normal_weight, const DensityRule& dr, double density_weight,
                    std::vector<uint32_t>& region) {
   const uint32_t nf = m.face_count();
-  std::vector<double> nrm(size_t{nf} * 3, 0.0), cen(size_t{nf} * 3, 0.0), area(nf, 0.0);
-  const float* p = m.positions.data();
-  for (uint32_t f = 0; f < nf; ++f) {
-    const uint32_t* t = &m.indices[3 * f];
-    double e1[3], e2[3];
-    for (int k = 0; k < 3; ++k) {
-      e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
-      e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
-      cen[3 * f + k] = (double(p[3 * t[0] + k]) + p[3 * t[1] + k] + p[3 * t[2] + k]) / 3.0;
-    }
-    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-                         e1[0] * e2[1] - e1[1] * e2[0]};
-    const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    area[f] = 0.5 * len;
-    if (len > 0 && std::isfinite(len))
-      for (int k = 0; k < 3; ++k) nrm[3 * f + k] = n[k] / len;
-  }
+  const FaceFrames frames = face_frames(m);
+  const std::vector<double>&nrm = frames.normal, &cen = frames.centroid, &area = frames.area;
   auto floodable = [&](uint32_t f) { return area[f] > 0 && !face_has_repeated_vertex(m, f); };
   uint32_t nl = 0;
   for (uint32_t r : region) nl = std::max(nl, r + 1);
