@@ -146,8 +146,9 @@ void Decoder::normalize() {
   }
 }
 
-uint32_t Decoder::bit(BitModel& m) {
-  const uint32_t bound = (range_ >> 16) * m.p0;
+// One binary decision with P(0) = p0 / 2^16, then renormalisation.
+uint32_t Decoder::split(uint32_t p0) {
+  const uint32_t bound = (range_ >> 16) * p0;
   uint32_t b;
   if (code_ < bound) {
     range_ = bound;
@@ -157,25 +158,17 @@ uint32_t Decoder::bit(BitModel& m) {
     range_ -= bound;
     b = 1;
   }
-  m.update(b);
   normalize();
   return b;
 }
 
-uint32_t Decoder::equiprobable() {
-  const uint32_t bound = (range_ >> 16) * (1u << 15);
-  uint32_t b;
-  if (code_ < bound) {
-    range_ = bound;
-    b = 0;
-  } else {
-    code_ -= bound;
-    range_ -= bound;
-    b = 1;
-  }
-  normalize();
+uint32_t Decoder::bit(BitModel& m) {
+  const uint32_t b = split(m.p0);
+  m.update(b);
   return b;
 }
+
+uint32_t Decoder::equiprobable() { return split(1u << 15); }
 
 uint32_t Decoder::uniform(uint32_t n) {
   if (n <= 1) return 0;

@@ -84,6 +84,7 @@ class Decoder {
  private:
   uint32_t next_byte();
   void normalize();
+  uint32_t split(uint32_t p0);  // decode one bit with P(0) = p0 / 2^16
   std::span<const uint8_t> bytes_;
   size_t pos_ = 0;
   uint32_t range_ = 0xFFFFFFFFu;

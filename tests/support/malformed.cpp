@@ -111,16 +111,6 @@ void append_bytes(void* ctx, void* data, int size) {
   out->insert(out->end(), static_cast<unsigned char*>(data), static_cast<unsigned char*>(data) + size);
 }
 
-VertexAttribute float_attr(const std::string& semantic, int components, const std::vector<float>& v) {
-  VertexAttribute a;
-  a.semantic = semantic;
-  a.component_type = TINYGLTF_COMPONENT_TYPE_FLOAT;
-  a.components = components;
-  a.data.resize(v.size() * 4);
-  std::memcpy(a.data.data(), v.data(), a.data.size());
-  return a;
-}
-
 template <typename T>
 VertexAttribute int_attr(const std::string& semantic, int components, int ct, bool normalized, const std::vector<T>& v) {
   VertexAttribute a;
@@ -185,11 +175,11 @@ int add_material(tinygltf::Model& m, int texture, int tex_coord) {
 
 int add_primitive(tinygltf::Model& m, const MeshSpec& spec, int material) {
   tinygltf::Primitive prim;
-  VertexAttribute pos = float_attr("POSITION", 3, spec.positions);
+  VertexAttribute pos = VertexAttribute::from_floats("POSITION", 3, spec.positions);
   prim.attributes["POSITION"] = add_accessor(m, pos, TINYGLTF_TARGET_ARRAY_BUFFER);
-  prim.attributes["NORMAL"] = add_accessor(m, float_attr("NORMAL", 3, normals_of(spec)), TINYGLTF_TARGET_ARRAY_BUFFER);
+  prim.attributes["NORMAL"] = add_accessor(m, VertexAttribute::from_floats("NORMAL", 3, normals_of(spec)), TINYGLTF_TARGET_ARRAY_BUFFER);
   if (!spec.uvs.empty())
-    prim.attributes["TEXCOORD_0"] = add_accessor(m, float_attr("TEXCOORD_0", 2, spec.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
+    prim.attributes["TEXCOORD_0"] = add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, spec.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
   if (!spec.indices.empty()) prim.indices = add_index_accessor(m, spec.indices, spec.positions.size() / 3);
   prim.mode = spec.mode;
   prim.material = material;
@@ -279,7 +269,7 @@ std::vector<VariedModel> varied_models() {
     std::vector<float> uv1(g.uvs.size());
     for (size_t i = 0; i < uv1.size(); ++i) uv1[i] = 0.25f + 0.5f * g.uvs[i];
     m.meshes[0].primitives[0].attributes["TEXCOORD_1"] =
-        add_accessor(m, float_attr("TEXCOORD_1", 2, uv1), TINYGLTF_TARGET_ARRAY_BUFFER);
+        add_accessor(m, VertexAttribute::from_floats("TEXCOORD_1", 2, uv1), TINYGLTF_TARGET_ARRAY_BUFFER);
     auto* v = add("texcoord1-kept", std::move(m));
     v->check_encoded = [](const tinygltf::Model& e, const std::string&) {
       EXPECT_TRUE(has_ours(prim_of(e, 0, 0)));
@@ -294,7 +284,7 @@ std::vector<VariedModel> varied_models() {
     MeshSpec g = grid_mesh(5, 5);
     add_primitive(m, g, mat);
     m.meshes[0].primitives[0].attributes["TEXCOORD_1"] =
-        add_accessor(m, float_attr("TEXCOORD_1", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
+        add_accessor(m, VertexAttribute::from_floats("TEXCOORD_1", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
     auto* v = add("only-texcoord1", std::move(m), false);
     v->check_encoded = [](const tinygltf::Model& e, const std::string&) {
       EXPECT_FALSE(has_ours(prim_of(e, 0, 0)));
@@ -325,7 +315,7 @@ std::vector<VariedModel> varied_models() {
       for (uint16_t i : idx) vals.insert(vals.end(), {g.positions[3 * i], g.positions[3 * i + 1], 0.4f});
       tinygltf::Accessor& pos = m.accessors[prim.attributes["POSITION"]];
       VertexAttribute ia = int_attr("", 1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT, false, idx);
-      VertexAttribute va = float_attr("", 3, vals);
+      VertexAttribute va = VertexAttribute::from_floats("", 3, vals);
       const int ia_acc = add_accessor(m, ia, 0), va_acc = add_accessor(m, va, 0);
       tinygltf::Accessor& p2 = m.accessors[prim.attributes["POSITION"]];
       (void)pos;
@@ -343,7 +333,7 @@ std::vector<VariedModel> varied_models() {
       std::vector<uint32_t> idx(n);
       for (uint32_t i = 0; i < n; ++i) idx[i] = i;
       VertexAttribute ia = int_attr("", 1, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, false, idx);
-      VertexAttribute va = float_attr("", 2, g.uvs);
+      VertexAttribute va = VertexAttribute::from_floats("", 2, g.uvs);
       const int ia_acc = add_accessor(m, ia, 0), va_acc = add_accessor(m, va, 0);
       tinygltf::Accessor uv;
       uv.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
@@ -401,7 +391,7 @@ std::vector<VariedModel> varied_models() {
     tinygltf::Primitive prim;
     VertexAttribute pos = int_attr("POSITION", 3, TINYGLTF_COMPONENT_TYPE_SHORT, false, q);
     prim.attributes["POSITION"] = add_accessor(m, pos, TINYGLTF_TARGET_ARRAY_BUFFER);
-    prim.attributes["TEXCOORD_0"] = add_accessor(m, float_attr("TEXCOORD_0", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
+    prim.attributes["TEXCOORD_0"] = add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
     prim.indices = add_index_accessor(m, g.indices, g.positions.size() / 3);
     prim.material = mat;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
