@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
 
 #include "codec/embedding_mesh.h"
 #include "codec/tangents.h"
@@ -24,39 +23,50 @@ VertexAttribute tangent_attribute(const PrimitiveGeometry& geom) {
 
 void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corner_uv) {
   const size_t corners = geom.triangles.size();
-  std::unordered_map<uint64_t, uint32_t> first;  // (point, corner-uv class) -> new vertex
-  first.reserve(corners);
-  std::vector<uint32_t> origin;                  // new vertex -> point
+  const size_t points = geom.vertex_count();
+  // New vertices of each point as a chain: head[point] -> next[vertex] -> ...
+  // A point's corners with bitwise-equal UVs share one new vertex; new
+  // vertices are numbered in order of their first corner.
+  std::vector<uint32_t> head(points, UINT32_MAX), next, origin;  // origin: new vertex -> point
   std::vector<float> uvs;
-  // Key: point id with the uv bits; collisions are resolved by comparing uvs.
-  std::unordered_map<uint32_t, std::vector<uint32_t>> by_point;
-  by_point.reserve(geom.vertex_count());
+  next.reserve(points + points / 4);
+  origin.reserve(points + points / 4);
+  uvs.reserve(2 * (points + points / 4));
   for (size_t c = 0; c < corners; ++c) {
     const uint32_t p = geom.triangles[c];
     const float u = corner_uv[2 * c], v = corner_uv[2 * c + 1];
-    auto& list = by_point[p];
-    uint32_t found = UINT32_MAX;
-    for (uint32_t nv : list)
-      if (std::memcmp(&uvs[2 * nv], &u, 4) == 0 && std::memcmp(&uvs[2 * nv + 1], &v, 4) == 0) {
-        found = nv;
-        break;
-      }
+    uint32_t found = head[p];
+    while (found != UINT32_MAX &&
+           !(std::memcmp(&uvs[2 * found], &u, 4) == 0 && std::memcmp(&uvs[2 * found + 1], &v, 4) == 0))
+      found = next[found];
     if (found == UINT32_MAX) {
       found = static_cast<uint32_t>(origin.size());
       origin.push_back(p);
+      next.push_back(head[p]);
+      head[p] = found;
       uvs.push_back(u);
       uvs.push_back(v);
-      list.push_back(found);
     }
     geom.triangles[c] = found;
   }
+  geom.erase("TEXCOORD_0");
   for (auto& a : geom.attributes) {
     const size_t es = a.element_size();
     std::vector<uint8_t> out(origin.size() * es);
-    for (size_t i = 0; i < origin.size(); ++i) std::memcpy(&out[i * es], &a.data[origin[i] * es], es);
+    uint8_t* dst = out.data();
+    const uint8_t* src = a.data.data();
+    switch (es) {  // fixed sizes let the copy inline
+      case 12:
+        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * 12, src + size_t{origin[i]} * 12, 12);
+        break;
+      case 16:
+        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * 16, src + size_t{origin[i]} * 16, 16);
+        break;
+      default:
+        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * es, src + size_t{origin[i]} * es, es);
+    }
     a.data.swap(out);
   }
-  geom.erase("TEXCOORD_0");
   geom.attributes.push_back(VertexAttribute::from_floats("TEXCOORD_0", 2, uvs));
 }
 
@@ -75,9 +85,17 @@ std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Prim
   const VertexAttribute* pos = geom.find("POSITION");
   if (!pos || pos->components != 3) return "primitive has no usable POSITION";
   // The encoder never lays out non-finite positions; the replay must not see them.
-  for (size_t e = 0; e < pos->count(); ++e)
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+  if (pos->component_type == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+    for (size_t i = 0; i < pos->data.size(); i += 4) {
+      uint32_t bits;
+      std::memcpy(&bits, pos->data.data() + i, 4);
+      if ((bits & 0x7F800000u) == 0x7F800000u) return "POSITION holds a NaN or infinite value";
+    }
+  } else {
+    for (size_t e = 0; e < pos->count(); ++e)
+      for (int i = 0; i < 3; ++i)
+        if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+  }
 
   std::vector<uint32_t> point_to_vertex;
   const TriMesh mesh = embedding_mesh(*pos, geom.triangles, point_to_vertex);

@@ -18,37 +18,6 @@ namespace {
 constexpr uint32_t kNone = 0xFFFFFFFFu;
 
 // ---- mesh adjacency ------------------------------------------------------------
-// lower[3f+k] = the lowest face g < f that has both vertices of edge k of f
-// (edge k joins indices[3f+k] and indices[3f+(k+1)%3]), or kNone.
-UvStatus lower_neighbours(const TriMesh& mesh, std::vector<uint32_t>& lower) {
-  const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
-  for (size_t c = 0; c < size_t{nf} * 3; ++c)
-    if (mesh.indices[c] >= nv) return UvStatus::bad_mesh;
-  struct Half {
-    uint64_t key;
-    uint32_t corner;
-  };
-  std::vector<Half> halves(size_t{nf} * 3);
-  for (size_t c = 0; c < size_t{nf} * 3; ++c) {
-    const uint32_t a = mesh.indices[c], b = mesh.indices[c - c % 3 + (c % 3 + 1) % 3];
-    const uint64_t lo = std::min(a, b), hi = std::max(a, b);
-    halves[c] = {(lo << 32) | hi, static_cast<uint32_t>(c)};
-  }
-  std::sort(halves.begin(), halves.end(), [](const Half& x, const Half& y) {
-    return x.key != y.key ? x.key < y.key : x.corner < y.corner;
-  });
-  lower.assign(size_t{nf} * 3, kNone);
-  for (size_t i = 0; i < halves.size();) {
-    size_t j = i;
-    while (j < halves.size() && halves[j].key == halves[i].key) ++j;
-    const uint32_t first_face = halves[i].corner / 3;  // corners ascend, so faces do
-    for (size_t t = i; t < j; ++t)
-      if (halves[t].corner / 3 > first_face) lower[halves[t].corner] = first_face;
-    i = j;
-  }
-  return UvStatus::ok;
-}
-
 // Vertex -> incident faces, ascending face id (a face naming v twice is listed twice).
 struct VertexFaceList {
   std::vector<uint32_t> offsets, faces;
@@ -64,6 +33,45 @@ VertexFaceList vertex_faces(const TriMesh& mesh) {  // indices already validated
   std::vector<uint32_t> fill(vf.offsets.begin(), vf.offsets.end() - 1);
   for (size_t c = 0; c < nc; ++c) vf.faces[fill[mesh.indices[c]]++] = static_cast<uint32_t>(c / 3);
   return vf;
+}
+
+bool indices_valid(const TriMesh& mesh) {
+  const uint32_t nv = mesh.vertex_count();
+  for (size_t c = 0; c < size_t{mesh.face_count()} * 3; ++c)
+    if (mesh.indices[c] >= nv) return false;
+  return true;
+}
+
+// lower[3f+k] = the lowest face g < f that has both vertices of edge k of f
+// (edge k joins indices[3f+k] and indices[3f+(k+1)%3]), or kNone.
+// Linear time: each undirected edge {a, b}, a <= b, is met from a's face list
+// in ascending face order, so the first face met with it is its lowest.
+// Indices must be valid (indices_valid).
+void lower_neighbours(const TriMesh& mesh, const VertexFaceList& vf, std::vector<uint32_t>& lower) {
+  const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
+  lower.assign(size_t{nf} * 3, kNone);
+  // For the vertex a being swept: stamp[b] == a + 1 once edge {a, b} was met, in face first[b].
+  std::vector<uint32_t> stamp(nv, 0), first(nv, 0);
+  const uint32_t* idx = mesh.indices.data();
+  for (uint32_t a = 0; a < nv; ++a) {
+    uint32_t prev = kNone;
+    for (uint32_t i = vf.offsets[a]; i < vf.offsets[a + 1]; ++i) {
+      const uint32_t g = vf.faces[i];
+      if (g == prev) continue;  // a face naming a twice is listed twice
+      prev = g;
+      const uint32_t* t = idx + 3 * size_t{g};
+      for (uint32_t k = 0; k < 3; ++k) {
+        const uint32_t x = t[k], y = t[k == 2 ? 0 : k + 1];
+        if (std::min(x, y) != a) continue;
+        const uint32_t b = std::max(x, y);
+        if (stamp[b] != a + 1) {
+          stamp[b] = a + 1;
+          first[b] = g;
+        }
+        if (first[b] < g) lower[3 * size_t{g} + k] = first[b];
+      }
+    }
+  }
 }
 
 constexpr uint32_t kVertexScan = 16;  // faces examined per vertex
@@ -297,9 +305,10 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh) {
 UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>& out) {
   GW_TRY(validate_uvmap(map, mesh));
   const uint32_t nf = mesh.face_count();
-  std::vector<uint32_t> lower;
-  GW_TRY(lower_neighbours(mesh, lower));
+  if (!indices_valid(mesh)) return UvStatus::bad_mesh;
   const VertexFaceList vf = vertex_faces(mesh);
+  std::vector<uint32_t> lower;
+  lower_neighbours(mesh, vf, lower);
 
   // Partition.
   rc::Encoder pe;
@@ -421,9 +430,10 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
 
   // Everything below is sized by the mesh (face_count) or by patch_count <= face_count.
   const uint32_t nf = info.face_count;
-  std::vector<uint32_t> lower;
-  GW_TRY(lower_neighbours(mesh, lower));
+  if (!indices_valid(mesh)) return UvStatus::bad_mesh;
   const VertexFaceList vf = vertex_faces(mesh);
+  std::vector<uint32_t> lower;
+  lower_neighbours(mesh, vf, lower);
   out.tau = info.tau;
   out.texel_scale = info.texel_scale;
   out.atlas_width = info.atlas_width;
