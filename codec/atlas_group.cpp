@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "codec/image_io.h"
+#include "codec/png_palette.h"
 #include "codec/implicit_uv_encoder.h"
 #include "codec/pack.h"
 #include "codec/tangents.h"
@@ -20,12 +21,29 @@
 namespace gltfwarp {
 namespace {
 
-// Keep each image's format unless asked otherwise; formats we do not write
-// (WebP, ...) become PNG.
-std::string output_mime(const std::string& source_mime, const std::string& wanted) {
+// Keep each image's format unless asked otherwise (judged by its bytes: a
+// URI image often has no mimeType); formats we do not write (WebP, ...)
+// become PNG.
+std::string output_mime(std::span<const uint8_t> source, const std::string& wanted) {
   if (wanted == "png") return "image/png";
   if (wanted == "jpeg") return "image/jpeg";
-  return source_mime == "image/jpeg" ? "image/jpeg" : "image/png";
+  return sniff_image_codec(source) == ImageCodec::jpeg ? "image/jpeg" : "image/png";
+}
+
+// Encodes a warped atlas. With "keep", an indexed PNG source gives an indexed
+// PNG with the source's palette (png_palette.h); normal maps are re-expressed
+// in new frames, so their texels leave the palette and stay truecolour.
+std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const uint8_t> source, const std::string& mime,
+                         int quality, bool normal_map, const std::string& wanted, std::vector<uint8_t>& bytes) {
+  const OIIO::ImageSpec& spec = atlas.spec();
+  if (mime == "image/png" && wanted == "keep" && !normal_map && spec.format == OIIO::TypeDesc::UINT8 &&
+      spec.nchannels >= 3) {
+    const std::vector<PaletteEntry> palette = png_palette(source);
+    if (!palette.empty()) return encode_indexed_png(atlas, palette, bytes);
+  }
+  std::string err;
+  encode_image(atlas, mime, quality, bytes, err);
+  return err;
 }
 
 struct WarpOutput {
@@ -103,20 +121,22 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       largest_uv0_image(model, prim.material, w, h);
       dens.push_back({&ip.tri, ip.source_uv, w, h});
     }
-    double scale = options.texel_density;
+    double scale = options.texel_density, reference = 0;
     if (!(scale > 0)) {
       TexelDensityOptions to;
       to.mode = options.texel_budget;
-      scale = auto_texel_scale(dens, to).texel_scale * options.texel_density_factor;
+      reference = auto_texel_scale(dens, to).texel_scale;
+      scale = reference * options.texel_density_factor;
     }
 
-    // Per-face source density lets the packer give each patch its own scale
-    // step, so small, densely textured parts (eyes, labels) keep their detail.
+    // Per-face density the layout needs (texels per layout unit, so the tau
+    // stretch counts) lets the packer give each patch its own scale step:
+    // with `auto`, each patch keeps its source detail on 90% of its area.
     std::vector<std::vector<double>> density(group.members.size());
     std::vector<PackPrimitive> pp;
     for (size_t k = 0; k < group.members.size(); ++k) {
       const auto& ip = plan.prims[group.members[k]];
-      density[k] = triangle_texel_density(ip.tri, ip.source_uv, dens[k].image_width, dens[k].image_height);
+      density[k] = layout_texel_stretch(ip.corner_xy, ip.source_uv, dens[k].image_width, dens[k].image_height);
       PackPrimitive p;
       p.mesh = &ip.tri;
       p.patch_of_face = ip.patch_of_face;
@@ -127,6 +147,7 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     }
     PackOptions po;
     po.texel_scale = scale;
+    po.density_reference = reference;
     po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
     po.max_atlas_size = options.max_atlas_size;
     po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
@@ -219,12 +240,13 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
           const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
           if (ws != WarpStatus::ok)
             return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
-          const std::string mime = output_mime(model.images[image].mimeType, options.image_format);
+          const std::string mime = output_mime(model.images[image].image, options.image_format);
           std::vector<uint8_t> bytes;
           int quality = options.jpeg_quality;
           if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
           if (quality <= 0) quality = 90;
-          if (!encode_image(atlas, mime, quality, bytes, err)) return "image " + std::to_string(image) + ": " + err;
+          err = encode_atlas(atlas, model.images[image].image, mime, quality, slot.normal_map, options.image_format, bytes);
+          if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
           WarpOutput wout{std::move(bytes), mime};
           ar.source_image_bytes += model.images[image].image.size();
           ar.atlas_image_bytes += wout.bytes.size();

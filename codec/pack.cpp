@@ -539,30 +539,47 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (area < best) best = area, p.base_code = code;
     }
   }
-  // Per-patch scale: redistribute the texel budget by the source's own
-  // density. A patch gets (its density / the set's density) times
-  // texel_scale, both as texel-count preserving (RMS) means weighted by
-  // layout area, quantized to the format's scale steps.
-  std::vector<double> patch_w(patches.size(), 0), patch_d2(patches.size(), 0);
+  // Per-patch scale from the source's own density: each patch gets its
+  // faces' density (an area-weighted quantile, or the texel-count preserving
+  // RMS mean) over a reference density, quantized to the format's scale steps.
+  std::vector<double> patch_w(patches.size(), 0), patch_d(patches.size(), 0);
   double all_w = 0, all_d2 = 0;
+  std::vector<std::pair<double, double>> dens;  // (density, layout area) of one patch's faces
   for (size_t pi = 0; pi < patches.size(); ++pi) {
     const PatchInfo& p = patches[pi];
     const PackPrimitive& pr = prims[p.prim];
     if (pr.face_density.empty() || !options.per_patch_scale) continue;
+    dens.clear();
+    double d2 = 0;
     for (uint32_t f : p.faces) {
       const double* c = &pr.corner_xy[6 * size_t(f)];
       const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
       const double d = pr.face_density[f];
-      if (!(a > 0) || !std::isfinite(d)) continue;
-      patch_w[pi] += a, patch_d2[pi] += a * d * d;
+      if (!(a > 0) || !std::isfinite(d) || !(d > 0)) continue;
+      patch_w[pi] += a, d2 += a * d * d;
+      dens.push_back({d, a});
     }
-    all_w += patch_w[pi], all_d2 += patch_d2[pi];
+    if (!(patch_w[pi] > 0)) continue;
+    all_w += patch_w[pi], all_d2 += d2;
+    if (options.density_quantile > 0) {
+      std::sort(dens.begin(), dens.end());
+      const double target = std::min(options.density_quantile, 1.0) * patch_w[pi];
+      double acc = 0;
+      patch_d[pi] = dens.back().first;
+      for (const auto& [d, a] : dens)
+        if ((acc += a) >= target) {
+          patch_d[pi] = d;
+          break;
+        }
+    } else {
+      patch_d[pi] = std::sqrt(d2 / patch_w[pi]);
+    }
   }
   if (all_w > 0 && all_d2 > 0) {
-    const double global = std::sqrt(all_d2 / all_w);
+    const double reference = options.density_reference > 0 ? options.density_reference : std::sqrt(all_d2 / all_w);
     for (size_t pi = 0; pi < patches.size(); ++pi) {
       if (!(patch_w[pi] > 0)) continue;
-      const double ratio = std::sqrt(patch_d2[pi] / patch_w[pi]) / global;
+      const double ratio = patch_d[pi] / reference;
       const int32_t step = ratio > 0 ? scale_step_for(ratio) : kMinScaleStep;
       patches[pi].scale_step = std::clamp(step, options.min_scale_step, options.max_scale_step);
     }

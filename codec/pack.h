@@ -57,7 +57,17 @@ struct PackOptions {
   PackMethod method = PackMethod::bitmap;
   bool per_patch_scale = true;      // use PackPrimitive::face_density when given
   int32_t min_scale_step = -16;     // per-patch scale range, in format steps of 2^(1/4):
-  int32_t max_scale_step = 8;       // 1/16 .. 4 times texel_scale
+  int32_t max_scale_step = 12;      // 1/16 .. 8 times texel_scale
+  // How a patch's density comes from its faces' face_density: the area-weighted
+  // quantile density_quantile (0.9: nine tenths of the patch keep their
+  // source detail), or with density_quantile <= 0 the RMS (texel-count
+  // preserving) mean.
+  double density_quantile = 0.9;
+  // > 0: a patch's scale is texel_scale * (its density / density_reference),
+  // so texel_scale / density_reference scales every patch alike. 0: relative
+  // to the whole set's RMS density (the budget texel_scale sets is only
+  // redistributed).
+  double density_reference = 0;
   uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
   bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
   uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights

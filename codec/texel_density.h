@@ -58,6 +58,15 @@ struct TexelDensityReport {
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
                                            uint32_t image_width, uint32_t image_height);
 
+// Texels per layout unit that each face needs so that its source texels are
+// not minified in any direction: the largest singular value of the affine map
+// from the face's layout (corner_xy, 2 per corner) to its source texels
+// (source_uv times the image size). The layout stretches 3D lengths by up to
+// tau, so this, not the 3D density, is what the atlas must match. 0 for faces
+// degenerate in either space.
+std::vector<double> layout_texel_stretch(std::span<const double> corner_xy, std::span<const float> source_uv,
+                                         uint32_t image_width, uint32_t image_height);
+
 // Global texel scale for a set of primitives that share an atlas.
 TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,
                                     const TexelDensityOptions& options = {});

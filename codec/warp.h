@@ -55,7 +55,7 @@ struct WarpOptions {
   uint32_t page = 0;          // which atlas page to produce
   uint32_t gutter = 4;        // fill texels up to this many texels from a patch by dilation
   float anisotropy = 16;      // max anisotropy of the filtered lookup
-  bool bicubic = true;        // bicubic when magnifying (sharper); false: bilinear (faster)
+  bool bicubic = false;       // bicubic (OIIO: a smoothing B-spline) when magnifying; false: bilinear, what viewers show
   int threads = 0;            // worker threads; 0 = hardware concurrency
   int band_rows = 32;         // rows per work item (memory is O(width * band_rows))
   std::string temp_dir;       // where the filtered source is staged; empty = system temp

@@ -332,3 +332,19 @@ TEST(Pack, ThousandsOfPatchesPackWithoutOverlap) {
 
 }  // namespace
 }  // namespace gltfwarp
+
+// layout_texel_stretch: the largest singular value of layout -> source texels.
+TEST(TexelStretch, IsTheLargestSingularValueOfTheFaceMap) {
+  // Layout: a right triangle with unit legs. Source: 2x along x, 0.5x along y
+  // (in a 100 x 100 image, UV = texels / 100).
+  const std::vector<double> xy = {0, 0, 1, 0, 0, 1};
+  const std::vector<float> uv = {0.1f, 0.1f, 0.12f, 0.1f, 0.1f, 0.105f};
+  const std::vector<double> s = gltfwarp::layout_texel_stretch(xy, uv, 100, 100);
+  ASSERT_EQ(s.size(), 1u);
+  EXPECT_NEAR(s[0], 2.0, 1e-4);
+  // Rotating the layout does not change it; a degenerate layout gives 0.
+  const double c = std::cos(0.7), n = std::sin(0.7);
+  const std::vector<double> rot = {0, 0, c, n, -n, c};
+  EXPECT_NEAR(gltfwarp::layout_texel_stretch(rot, uv, 100, 100)[0], 2.0, 1e-4);
+  EXPECT_EQ(gltfwarp::layout_texel_stretch(std::vector<double>{0, 0, 1, 1, 2, 2}, uv, 100, 100)[0], 0.0);
+}

@@ -1,0 +1,108 @@
+// Indexed-colour PNG through libpng's simplified API (sources in png_palette.h).
+#include "codec/png_palette.h"
+
+#include <png.h>
+
+#include <limits>
+#include <unordered_map>
+
+namespace gltfwarp {
+
+namespace {
+
+// Frees the png_image's internal state on every path out.
+struct PngImage {
+  png_image image{};
+  PngImage() { image.version = PNG_IMAGE_VERSION; }
+  ~PngImage() { png_image_free(&image); }
+  PngImage(const PngImage&) = delete;
+  PngImage& operator=(const PngImage&) = delete;
+};
+
+bool is_indexed_png(std::span<const uint8_t> b) {
+  // Signature (8) + IHDR length (4) + "IHDR" (4) + width, height (8) + bit depth, colour type.
+  static const uint8_t sig[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
+  return b.size() >= 26 && std::equal(sig, sig + 8, b.begin()) && b[24] <= 8 && b[25] == 3;
+}
+
+}  // namespace
+
+std::vector<PaletteEntry> png_palette(std::span<const uint8_t> png) {
+  if (!is_indexed_png(png)) return {};
+  PngImage p;
+  if (!png_image_begin_read_from_memory(&p.image, png.data(), png.size())) return {};
+  if (!(p.image.format & PNG_FORMAT_FLAG_COLORMAP) || p.image.colormap_entries == 0 ||
+      p.image.colormap_entries > 256)
+    return {};
+  // The simplified reader hands out the palette only with the pixels.
+  p.image.format = PNG_FORMAT_RGBA_COLORMAP;
+  const size_t texels = size_t(p.image.width) * p.image.height;
+  if (texels == 0 || texels > (size_t(1) << 28)) return {};
+  std::vector<uint8_t> indices(texels);
+  std::vector<PaletteEntry> palette(256);
+  if (!png_image_finish_read(&p.image, nullptr, indices.data(), 0, palette.data())) return {};
+  palette.resize(p.image.colormap_entries);
+  return palette;
+}
+
+std::vector<uint8_t> palette_indices(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette) {
+  const OIIO::ImageSpec& spec = image.spec();
+  const int nch = spec.nchannels;
+  std::vector<uint8_t> out(size_t(spec.width) * spec.height);
+  if (palette.empty() || nch < 3 || nch > 4) return out;
+  std::vector<uint8_t> row(size_t(spec.width) * nch);
+  // Warped atlases repeat few colours many times: remember each answer.
+  std::unordered_map<uint32_t, uint8_t> nearest;
+  for (int y = 0; y < spec.height; ++y) {
+    const OIIO::ROI roi(spec.x, spec.x + spec.width, spec.y + y, spec.y + y + 1, 0, 1, 0, nch);
+    image.get_pixels(roi, OIIO::TypeDesc::UINT8, row.data());
+    for (int x = 0; x < spec.width; ++x) {
+      const uint8_t* t = &row[size_t(x) * nch];
+      const uint8_t a = nch == 4 ? t[3] : 255;
+      const uint32_t key = uint32_t(t[0]) | uint32_t(t[1]) << 8 | uint32_t(t[2]) << 16 | uint32_t(a) << 24;
+      auto it = nearest.find(key);
+      if (it == nearest.end()) {
+        int best = 0, best_d = std::numeric_limits<int>::max();
+        for (size_t i = 0; i < palette.size(); ++i) {
+          const PaletteEntry& e = palette[i];
+          const int dr = int(e[0]) - t[0], dg = int(e[1]) - t[1], db = int(e[2]) - t[2], da = int(e[3]) - a;
+          const int d = dr * dr + dg * dg + db * db + da * da;
+          if (d < best_d) best_d = d, best = int(i);
+        }
+        it = nearest.emplace(key, uint8_t(best)).first;
+      }
+      out[size_t(y) * spec.width + x] = it->second;
+    }
+  }
+  return out;
+}
+
+std::string encode_indexed_png(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette,
+                               std::vector<uint8_t>& bytes) {
+  bytes.clear();
+  const OIIO::ImageSpec& spec = image.spec();
+  if (!image.initialized() || spec.width <= 0 || spec.height <= 0) return "empty image";
+  if (spec.nchannels < 3 || spec.nchannels > 4) return "an indexed PNG needs an RGB or RGBA image";
+  if (palette.empty() || palette.size() > 256) return "a PNG palette holds 1 to 256 entries";
+  const std::vector<uint8_t> indices = palette_indices(image, palette);
+  bool opaque = true;
+  for (const PaletteEntry& e : palette) opaque = opaque && e[3] == 255;
+  // RGB entries when no entry is translucent, so no tRNS chunk is written.
+  std::vector<uint8_t> colormap;
+  for (const PaletteEntry& e : palette) colormap.insert(colormap.end(), e.begin(), e.begin() + (opaque ? 3 : 4));
+  PngImage p;
+  p.image.width = png_uint_32(spec.width);
+  p.image.height = png_uint_32(spec.height);
+  p.image.format = opaque ? PNG_FORMAT_RGB_COLORMAP : PNG_FORMAT_RGBA_COLORMAP;
+  p.image.colormap_entries = png_uint_32(palette.size());
+  png_alloc_size_t size = 0;
+  if (!png_image_write_get_memory_size(p.image, size, 0, indices.data(), 0, colormap.data()))
+    return std::string("cannot encode indexed PNG: ") + p.image.message;
+  bytes.resize(size);
+  if (!png_image_write_to_memory(&p.image, bytes.data(), &size, 0, indices.data(), 0, colormap.data()))
+    return std::string("cannot encode indexed PNG: ") + p.image.message;
+  bytes.resize(size);
+  return "";
+}
+
+}  // namespace gltfwarp
