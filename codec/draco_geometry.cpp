@@ -40,6 +40,28 @@ void convert_into(const draco::PointAttribute* att, draco::PointIndex p, int n, 
   std::memcpy(out, tmp, sizeof(T) * static_cast<size_t>(n));
 }
 
+// Fast path of the conversion below when Draco holds exactly the glTF
+// component type (the usual case: float positions and normals): plain copies,
+// the same bytes ConvertValue would produce. Returns false to fall back.
+bool copy_same_type(const draco::PointAttribute& att, const DracoWanted& w, int nc, size_t points,
+                    uint8_t* out) {
+  if (draco_type(w.component_type) != att.data_type() || att.buffer() == nullptr) return false;
+  const size_t cs = component_size(w.component_type);
+  const size_t src_elem = cs * static_cast<size_t>(att.num_components());
+  const size_t dst_elem = cs * static_cast<size_t>(w.components);
+  const size_t n = cs * static_cast<size_t>(nc);
+  if (att.byte_stride() != static_cast<int64_t>(src_elem) || att.byte_offset() != 0) return false;
+  const uint8_t* src = att.buffer()->data();
+  const size_t values = att.size();
+  if (att.buffer()->data_size() < values * src_elem) return false;
+  for (size_t p = 0; p < points; ++p) {
+    const uint32_t v = att.mapped_index(draco::PointIndex(static_cast<uint32_t>(p))).value();
+    if (v >= values) return false;  // ConvertValue would read past the values; let it decide
+    std::memcpy(out + p * dst_elem, src + size_t{v} * src_elem, n);
+  }
+  return true;
+}
+
 }  // namespace
 
 DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes, const std::vector<uint32_t>& triangles,
@@ -136,6 +158,10 @@ DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<D
     }
     a.data.assign(r.point_count * a.element_size(), 0);
     const int nc = std::min<int>(w.components, att->num_components());
+    if (copy_same_type(*att, w, nc, r.point_count, a.data.data())) {
+      r.attributes.push_back(std::move(a));
+      continue;
+    }
     for (uint32_t p = 0; p < r.point_count; ++p) {
       uint8_t* out = a.data.data() + p * a.element_size();
       const draco::PointIndex pi(p);

@@ -102,8 +102,36 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
   return p;
 }
 
-LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                            uint32_t patch_count, std::vector<double>& corner_xy) {
+namespace {
+
+// Face incidences grouped per vertex, and within a vertex sorted by (patch,
+// face): the faces of v in patch p are one contiguous run, ascending. Filled
+// by walking the faces patch by patch (pfaces order), so no sort is needed.
+struct PatchIncidence {
+  std::vector<uint32_t> offsets;  // vertex_count + 1
+  std::vector<uint32_t> face;     // 3 * face_count
+  std::vector<uint32_t> patch;    // patch of face[i]
+  std::vector<uint32_t> cursor;   // per vertex: first entry not of an earlier patch
+};
+
+// Moves v's cursor past the runs of patches < p (patches are replayed in
+// ascending order, so each entry is skipped at most once overall) and returns
+// the end of v's run in patch p.
+inline uint32_t run_of(PatchIncidence& pi, uint32_t v, uint32_t p, uint32_t& begin) {
+  uint32_t i = pi.cursor[v];
+  const uint32_t end = pi.offsets[v + 1];
+  while (i < end && pi.patch[i] < p) ++i;
+  pi.cursor[v] = i;
+  begin = i;
+  while (i < end && pi.patch[i] == p) ++i;
+  return i;
+}
+
+// The replay (layout.h). emit(p, f, xy) receives each face of patch p, in
+// ascending face order, once p is fully placed.
+template <typename Emit>
+LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                    Emit&& emit) {
   if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
   const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
   if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
@@ -115,8 +143,8 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
     else if (p > next) return LayoutStatus::patch_order;
   }
   if (next != patch_count) return LayoutStatus::bad_patch_id;
+  const uint32_t* idx = mesh.indices.data();
 
-  const VertexFaces vf = build_vertex_faces(mesh);
   // Faces of each patch, ascending (counting sort by patch id).
   std::vector<uint32_t> poff(size_t{patch_count} + 1, 0), pfaces(nf);
   for (uint32_t f = 0; f < nf; ++f) ++poff[patch_of_face[f] + 1];
@@ -124,6 +152,27 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
   {
     std::vector<uint32_t> fill(poff.begin(), poff.end() - 1);
     for (uint32_t f = 0; f < nf; ++f) pfaces[fill[patch_of_face[f]]++] = f;
+  }
+  PatchIncidence inc;
+  {
+    const size_t nc = size_t{nf} * 3;
+    inc.offsets.assign(size_t{nv} + 1, 0);
+    for (size_t c = 0; c < nc; ++c) ++inc.offsets[idx[c] + 1];
+    for (uint32_t v = 0; v < nv; ++v) inc.offsets[v + 1] += inc.offsets[v];
+    inc.face.resize(nc);
+    inc.patch.resize(nc);
+    inc.cursor.assign(inc.offsets.begin(), inc.offsets.end() - 1);
+    std::vector<uint32_t>& fill = inc.cursor;  // restored below
+    for (uint32_t p = 0; p < patch_count; ++p)
+      for (uint32_t i = poff[p]; i < poff[p + 1]; ++i) {
+        const uint32_t f = pfaces[i];
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t e = fill[idx[3 * f + k]]++;
+          inc.face[e] = f;
+          inc.patch[e] = p;
+        }
+      }
+    std::copy(inc.offsets.begin(), inc.offsets.end() - 1, inc.cursor.begin());
   }
 
   // placed[v] == p + 1 marks v placed in patch p; listed[v] == round stamp
@@ -133,8 +182,6 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
   std::vector<uint32_t> fresh, list;
   std::vector<Unfolding> unf;
   uint32_t round_stamp = 0;
-  corner_xy.assign(size_t{nf} * 6, 0.0);
-  const uint32_t* idx = mesh.indices.data();
 
   for (uint32_t p = 0; p < patch_count; ++p) {
     const uint32_t mark = p + 1;
@@ -155,10 +202,10 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
       ++round_stamp;
       list.clear();
       for (uint32_t v : fresh) {
-        for (uint32_t i = vf.offsets[v]; i < vf.offsets[v + 1]; ++i) {
-          const uint32_t f = vf.faces[i];
-          if (patch_of_face[f] != p) continue;
-          const uint32_t* t = idx + 3 * f;
+        uint32_t i;
+        const uint32_t end = run_of(inc, v, p, i);
+        for (; i < end; ++i) {
+          const uint32_t* t = idx + 3 * inc.face[i];
           for (int k = 0; k < 3; ++k) {
             const uint32_t q = t[k], a = t[(k + 1) % 3], b = t[(k + 2) % 3];
             if (placed[q] == mark || listed[q] == round_stamp || q == a || q == b) continue;
@@ -174,10 +221,10 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
       fresh.clear();
       for (uint32_t q : list) {
         unf.clear();
-        for (uint32_t i = vf.offsets[q]; i < vf.offsets[q + 1]; ++i) {
-          const uint32_t f = vf.faces[i];
-          if (patch_of_face[f] != p) continue;
-          const uint32_t* t = idx + 3 * f;
+        uint32_t i;
+        const uint32_t end = run_of(inc, q, p, i);
+        for (; i < end; ++i) {
+          const uint32_t* t = idx + 3 * inc.face[i];
           const uint32_t k = t[0] == q ? 0 : (t[1] == q ? 1 : 2);
           const uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
           if (a == q || b == q) continue;  // q not exactly once (also skips the repeat listing)
@@ -191,15 +238,37 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
     }
     for (uint32_t i = poff[p]; i < poff[p + 1]; ++i) {
       const uint32_t f = pfaces[i];
+      Vec2 xy[3];
       for (int k = 0; k < 3; ++k) {
         const uint32_t v = idx[3 * f + k];
         if (placed[v] != mark) return LayoutStatus::unreachable_face;
-        corner_xy[6 * size_t{f} + 2 * k] = pos[v].x;
-        corner_xy[6 * size_t{f} + 2 * k + 1] = pos[v].y;
+        xy[k] = pos[v];
       }
+      emit(p, f, xy);
     }
   }
   return LayoutStatus::ok;
+}
+
+}  // namespace
+
+LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                            uint32_t patch_count, std::vector<double>& corner_xy) {
+  corner_xy.clear();
+  corner_xy.resize(size_t{mesh.face_count()} * 6, 0.0);
+  return replay(mesh, patch_of_face, patch_count, [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
+    double* out = corner_xy.data() + 6 * size_t{f};
+    for (int k = 0; k < 3; ++k) {
+      out[2 * k] = xy[k].x;
+      out[2 * k + 1] = xy[k].y;
+    }
+  });
+}
+
+LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                            uint32_t patch_count, FaceSink sink, void* context) {
+  return replay(mesh, patch_of_face, patch_count,
+                [&](uint32_t p, uint32_t f, const Vec2 xy[3]) { sink(context, p, f, xy); });
 }
 
 }  // namespace gltfwarp

@@ -76,6 +76,14 @@ const char* to_string(LayoutStatus s);
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy);
 
+// The same replay, handing over each face's three corner positions instead of
+// storing them: sink(context, patch, face, xy) is called for the faces of
+// patch 0 (ascending face id), then of patch 1, and so on, each patch once it
+// is fully placed. On an error some faces may already have been handed over.
+using FaceSink = void (*)(void* context, uint32_t patch, uint32_t face, const Vec2 xy[3]);
+LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                            uint32_t patch_count, FaceSink sink, void* context);
+
 // Building blocks of the replay, exposed so that the encoder's growth
 // (codec/embed.cpp) computes exactly the same floats for the same inputs.
 inline constexpr int kRelaxSteps = 2;
