@@ -11,10 +11,12 @@
 #include <optional>
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <iterator>
 #include <functional>
 #include <set>
 #include <sstream>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -57,7 +59,8 @@ std::string mime_for_bytes(const std::vector<unsigned char>& b, const std::strin
 }
 
 // Writes bytes to a temporary file beside `path`, then renames it into place.
-std::string write_atomically(const std::string& path, const std::string& bytes) {
+// Writes the concatenation of `parts` to path via a temporary file and a rename.
+std::string write_atomically(const std::string& path, std::initializer_list<std::string_view> parts) {
   namespace fs = std::filesystem;
   const fs::path target(path);
   fs::path tmp = target;
@@ -65,7 +68,7 @@ std::string write_atomically(const std::string& path, const std::string& bytes) 
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return "cannot write " + path;
-    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    for (const std::string_view part : parts) out.write(part.data(), static_cast<std::streamsize>(part.size()));
     out.flush();
     if (!out) {
       std::error_code ec;
@@ -80,6 +83,9 @@ std::string write_atomically(const std::string& path, const std::string& bytes) 
     return "cannot write " + path + ": " + ec.message();
   }
   return {};
+}
+std::string write_atomically(const std::string& path, const std::string& bytes) {
+  return write_atomically(path, {std::string_view(bytes)});
 }
 
 void align4(std::vector<unsigned char>& data) {
@@ -277,8 +283,9 @@ std::string split_glb(const uint8_t* d, size_t n, GlbParts& out) {
 }
 
 // A GLB tinygltf accepts: header, JSON padded with spaces, BIN (if any)
-// padded with zeros, exact lengths.
-std::string make_glb(std::string json, const uint8_t* bin, size_t bin_size) {
+// padded with zeros, exact lengths. glb_head is everything before the BIN
+// bytes, glb_tail the zeros after them.
+std::string glb_head(std::string json, size_t bin_size) {
   while (json.size() % 4) json.push_back(' ');
   const size_t bin_padded = (bin_size + 3) / 4 * 4;
   std::string glb = "glTF";
@@ -290,9 +297,14 @@ std::string make_glb(std::string json, const uint8_t* bin, size_t bin_size) {
   if (bin_size) {
     put_u32(glb, static_cast<uint32_t>(bin_padded));
     put_u32(glb, kChunkBin);
-    glb.append(reinterpret_cast<const char*>(bin), bin_size);
-    glb.append(bin_padded - bin_size, '\0');
   }
+  return glb;
+}
+std::string_view glb_tail(size_t bin_size) { return std::string_view("\0\0\0", (4 - bin_size % 4) % 4); }
+std::string make_glb(std::string json, const uint8_t* bin, size_t bin_size) {
+  std::string glb = glb_head(std::move(json), bin_size);
+  glb.append(reinterpret_cast<const char*>(bin), bin_size);
+  glb += glb_tail(bin_size);
   return glb;
 }
 
@@ -684,7 +696,38 @@ void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced) {
   }
   std::vector<int> view_map(model.bufferViews.size(), -1);
   std::vector<tinygltf::BufferView> kept_views;
+  // When the referenced views already sit in buffer 0 exactly where the
+  // rebuild would put them (a second compaction, or a file we wrote), the
+  // rebuilt buffer equals buffer 0 with its alignment gaps zeroed: reuse it
+  // instead of copying every byte.
+  size_t total = 0;
+  bool in_place = model.buffers.size() == 1;
   for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+    if (!view_refs[i]) continue;
+    const tinygltf::BufferView& v = model.bufferViews[i];
+    total = (total + 3) / 4 * 4;
+    in_place = in_place && v.buffer == 0 && v.byteOffset == total &&
+               v.byteLength <= model.buffers[0].data.size() - std::min(v.byteOffset, model.buffers[0].data.size());
+    total += v.byteLength;
+  }
+  in_place = in_place && (total + 3) / 4 * 4 == model.buffers[0].data.size();
+  if (in_place) {
+    out.data = std::move(model.buffers[0].data);
+    size_t end = 0;
+    for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+      if (!view_refs[i]) continue;
+      const tinygltf::BufferView& v = model.bufferViews[i];
+      std::fill(out.data.begin() + static_cast<std::ptrdiff_t>(end),
+                out.data.begin() + static_cast<std::ptrdiff_t>(v.byteOffset), 0);
+      end = v.byteOffset + v.byteLength;
+      view_map[i] = static_cast<int>(kept_views.size());
+      kept_views.push_back(v);
+    }
+    std::fill(out.data.begin() + static_cast<std::ptrdiff_t>(end), out.data.end(), 0);
+  } else {
+    out.data.reserve(total + 3);
+  }
+  for (size_t i = 0; i < model.bufferViews.size() && !in_place; ++i) {
     if (!view_refs[i]) continue;
     tinygltf::BufferView v = model.bufferViews[i];
     const bool valid_source = v.buffer >= 0 && static_cast<size_t>(v.buffer) < model.buffers.size() &&
@@ -783,14 +826,18 @@ std::string write_gltf(tinygltf::Model& model, const std::string& path) {
   }
   if (binary) {
     const auto& data = model.buffers.empty() ? bin : model.buffers[0].data;
-    return write_atomically(path, make_glb(std::move(json_text), data.data(), data.size()));
+    // The BIN bytes go to the file straight from the buffer, not through a copy.
+    return write_atomically(path, {glb_head(std::move(json_text), data.size()),
+                                   std::string_view(reinterpret_cast<const char*>(data.data()), data.size()),
+                                   glb_tail(data.size())});
   }
   // JSON: buffer 0 goes to a .bin file beside the .gltf (a data URI would
   // cost a third more bytes).
   if (!model.buffers.empty()) {
     const fs::path bin_path = fs::path(path).parent_path() / (fs::path(path).stem().string() + ".bin");
-    std::string err = write_atomically(bin_path.string(), std::string(model.buffers[0].data.begin(),
-                                                                      model.buffers[0].data.end()));
+    const auto& data = model.buffers[0].data;
+    std::string err = write_atomically(
+        bin_path.string(), {std::string_view(reinterpret_cast<const char*>(data.data()), data.size())});
     if (!err.empty()) return err;
   }
   return write_atomically(path, json_text);
