@@ -3,11 +3,14 @@
 // flat, then breadth-first rounds in which each candidate vertex is placed by
 // the shared rule (layout.h: place_vertex) and rejected if one of its
 // triangles exceeds tau, flips or overlaps the patch. Compact mode (issue 8)
-// first clusters faces into near-disc regions by normal-cone region growing
-// on geodesic distance (in the spirit of Cohen-Steiner, Alliez & Desbrun,
-// "Variational Shape Approximation", 2004, with a single greedy pass), grows
-// patches inside each region, then merges adjacent patches while the union
-// still replays within tau and stays compact.
+// grows seeded balls: from the lowest free face, a geodesic ball sized to
+// what tau allows (so each patch is a near-disc around its own seed); then
+// merges adjacent patches while the union still replays within tau and stays
+// compact; then straightens seams by moving notch and hole faces to the
+// patch that surrounds them on two or three sides, when both still replay.
+// (Clustering first, Lloyd or VSA style, was measured and lost: a cluster's
+// lowest face, the replay's seed, falls anywhere in it, often on its rim,
+// so only small clusters lay out within tau.)
 //
 // Consistency with the replay (why the encoder's floats equal the decoder's):
 // when candidate q is processed, let A be the patch-available faces holding q
@@ -35,6 +38,10 @@
 
 namespace gltfwarp {
 namespace {
+
+// Face regrowths every budgeted pass may spend beyond its share per face:
+// small meshes get every trial they can use, large ones stay linear.
+constexpr double kBudgetFloor = 262144.0;
 
 double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(length3_sq(m, u, w)); }
 
@@ -226,6 +233,7 @@ class Grower {
     grid_.init(nf, n ? 1.5 * sum / double(n) : 1.0);
   }
 
+  uint32_t fail_face = kNone;        // after grow: the first face it had to leave out
   std::vector<uint32_t> face_patch;  // kNone = free
   std::vector<uint32_t> region;      // growth stays within the seed's label
   std::vector<double> xy;            // encoder positions per corner of assigned faces
@@ -243,6 +251,7 @@ class Grower {
             std::vector<uint32_t>& verts, bool all_or_nothing = false, bool plain = false) {
     ++gen_;
     grid_.reset();
+    fail_face = kNone;
     faces.clear();
     verts.clear();
     const uint32_t label = region[seed];
@@ -311,6 +320,7 @@ class Grower {
           for (const Cand& c : cand_) {
             if (!c.in) {
               closed_[c.f] = gen_;
+              fail_face = c.f;
               if (all_or_nothing) return false;
               continue;
             }
@@ -324,6 +334,7 @@ class Grower {
           if (plain) banned_[q] = gen_;
           for (const Cand& c : cand_)
             if (c.at_start || plain) closed_[c.f] = gen_;
+          if (!cand_.empty()) fail_face = cand_.front().f;
           if (all_or_nothing && !cand_.empty()) return false;
         }
       }
@@ -462,155 +473,6 @@ FaceFrames face_frames(const TriMesh& m) {
   return fr;
 }
 
-// Compact mode, step 1: near-disc regions. Faces are taken in ascending
-// order as region seeds; each region grows by geodesic (centroid-to-centroid)
-// distance, admitting a face while its normal stays within the cone around
-// the region's running area-weighted mean normal. Degenerate faces form
-// their own regions. With the density rule, a face joins only while the
-// region's density spread stays within the limit. With `within`, regions
-// split those labels (a face joins only faces of its own label) and
-// cone_deg >= 180 turns the normal test off. O(n log n).
-void cluster_regions(const TriMesh& m, const std::vector<uint32_t>& opp, double cone_deg,
-                     const DensityRule& dr, const std::vector<uint32_t>* within,
-                     std::vector<uint32_t>& region) {
-  const uint32_t nf = m.face_count();
-  const FaceFrames frames = face_frames(m);
-  const std::vector<double>&nrm = frames.normal, &cen = frames.centroid, &area = frames.area;
-  const double cos_cone = std::cos(cone_deg * 3.14159265358979323846 / 180.0);
-  region.assign(nf, kNone);
-  std::vector<uint32_t> tried(nf, 0);
-  std::vector<double> dist(nf, 0.0);
-  using Item = std::pair<double, uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-  uint32_t label = 0;
-  for (uint32_t s = 0; s < nf; ++s) {
-    if (region[s] != kNone) continue;
-    const uint32_t lab = label++;
-    if (!(area[s] > 0) || face_has_repeated_vertex(m, s)) {
-      region[s] = lab;
-      continue;
-    }
-    double mean[3] = {0, 0, 0};
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    heap.push({0.0, s});
-    dist[s] = 0;
-    tried[s] = lab + 1;
-    while (!heap.empty()) {
-      const auto [d, f] = heap.top();
-      heap.pop();
-      if (region[f] != kNone || d > dist[f]) continue;
-      const double ml = std::sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
-      if (ml > 0 && cone_deg < 180) {
-        const double c = (nrm[3 * f] * mean[0] + nrm[3 * f + 1] * mean[1] + nrm[3 * f + 2] * mean[2]) / ml;
-        if (c < cos_cone) continue;
-      }
-      if (!dr.admits(lo, hi, f)) continue;
-      DensityRule::extend(lo, hi, dr.at(f));
-      region[f] = lab;
-      for (int k = 0; k < 3; ++k) mean[k] += area[f] * nrm[3 * f + k];
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t o = opp[3 * f + k];
-        if (o == kNone) continue;
-        const uint32_t g = o / 3;
-        if (region[g] != kNone || !(area[g] > 0) || face_has_repeated_vertex(m, g)) continue;
-        if (within && (*within)[g] != (*within)[s]) continue;
-        const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
-                     dz = cen[3 * g + 2] - cen[3 * f + 2];
-        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz);
-        if (tried[g] == lab + 1 && dist[g] <= nd) continue;
-        tried[g] = lab + 1;
-        dist[g] = nd;
-        heap.push({nd, g});
-      }
-    }
-  }
-}
-
-// Compact mode, step 2: Lloyd iterations over the regions (as in VSA's
-// flooding): every region re-seeds at the face nearest its area centroid,
-// then all seeds flood at once by Dijkstra over face adjacency with a cost
-// that grows with the normal's deviation from the seed's normal. Regions
-// become Voronoi-like cells: compact, with short boundaries.
-void lloyd_regions(const TriMesh& m, const std::vector<uint32_t>& opp, int iterations,
-                   double normal_weight, const DensityRule& dr, double density_weight,
-                   std::vector<uint32_t>& region) {
-  const uint32_t nf = m.face_count();
-  const FaceFrames frames = face_frames(m);
-  const std::vector<double>&nrm = frames.normal, &cen = frames.centroid, &area = frames.area;
-  auto floodable = [&](uint32_t f) { return area[f] > 0 && !face_has_repeated_vertex(m, f); };
-  uint32_t nl = 0;
-  for (uint32_t r : region) nl = std::max(nl, r + 1);
-  std::vector<double> acc(size_t{nl} * 4), best(nl), dist(nf);
-  std::vector<uint32_t> seed(nl), owner(nf);
-  using Item = std::pair<double, uint32_t>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
-  for (int it = 0; it < iterations; ++it) {
-    // Re-seed: the floodable face nearest each region's area centroid.
-    std::fill(acc.begin(), acc.end(), 0.0);
-    for (uint32_t f = 0; f < nf; ++f)
-      if (floodable(f)) {
-        double* a = &acc[4 * size_t{region[f]}];
-        for (int k = 0; k < 3; ++k) a[k] += area[f] * cen[3 * f + k];
-        a[3] += area[f];
-      }
-    std::fill(best.begin(), best.end(), std::numeric_limits<double>::infinity());
-    std::fill(seed.begin(), seed.end(), kNone);
-    for (uint32_t f = 0; f < nf; ++f) {
-      if (!floodable(f)) continue;
-      const uint32_t r = region[f];
-      const double* a = &acc[4 * size_t{r}];
-      double d = 0;
-      for (int k = 0; k < 3; ++k) {
-        const double x = cen[3 * f + k] - a[k] / a[3];
-        d += x * x;
-      }
-      if (d < best[r]) best[r] = d, seed[r] = f;
-    }
-    // Flood from all seeds at once.
-    std::fill(owner.begin(), owner.end(), kNone);
-    std::fill(dist.begin(), dist.end(), std::numeric_limits<double>::infinity());
-    for (uint32_t r = 0; r < nl; ++r)
-      if (seed[r] != kNone) {
-        dist[seed[r]] = 0;
-        owner[seed[r]] = r;
-        heap.push({0.0, seed[r]});
-      }
-    std::vector<uint32_t> seed_of_owner = seed;
-    while (!heap.empty()) {
-      const auto [d, f] = heap.top();
-      heap.pop();
-      if (d > dist[f]) continue;
-      const uint32_t r = owner[f];
-      const double* ns = &nrm[3 * size_t{seed_of_owner[r]}];
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t o = opp[3 * f + k];
-        if (o == kNone) continue;
-        const uint32_t g = o / 3;
-        if (!floodable(g)) continue;
-        const double dx = cen[3 * g] - cen[3 * f], dy = cen[3 * g + 1] - cen[3 * f + 1],
-                     dz = cen[3 * g + 2] - cen[3 * f + 2];
-        const double dev = 1.0 - (nrm[3 * g] * ns[0] + nrm[3 * g + 1] * ns[1] + nrm[3 * g + 2] * ns[2]);
-        double cost = 1.0 + normal_weight * dev;
-        // Density: crossing into faces of another texel density costs more,
-        // so cells end at density jumps (the split pass enforces the rule).
-        const double ls = dr.at(seed_of_owner[r]), lg = dr.at(g);
-        if (ls == ls && lg == lg) {
-          const double x = (lg - ls) / dr.limit;
-          cost += density_weight * x * x;
-        }
-        const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz) * cost;
-        if (nd < dist[g]) {
-          dist[g] = nd;
-          owner[g] = r;
-          heap.push({nd, g});
-        }
-      }
-    }
-    for (uint32_t f = 0; f < nf; ++f)
-      if (owner[f] != kNone) region[f] = owner[f];
-  }
-}
-
 // Grows patches covering every face: for each label, seeds at the lowest
 // free face of that label until the label is covered. Returns the patches'
 // face lists (patch ids are their index; creation order).
@@ -621,6 +483,132 @@ void grow_all(Grower& g, std::vector<std::vector<uint32_t>>& patches, bool plain
     if (g.face_patch[f] != kNone) continue;
     const uint32_t id = static_cast<uint32_t>(patches.size());
     g.grow(f, id, faces, verts, false, plain);
+    patches.push_back(faces);
+  }
+}
+
+// Compact mode, step 1: seeded balls. From the lowest free face (the
+// patch's seed in the replay, so the replay's growth starts at the ball's
+// centre, not at its rim as with clusters whose lowest face falls anywhere),
+// a ball of free faces in Dijkstra order of a geodesic cost that grows with
+// the normal's deviation from the seed's. The ball is sized to what tau
+// allows: the prefix of that order doubles while it grows whole; at the
+// first failure it is cut just before the face the growth left out, and
+// grown once more keeping what fits (only its rim can lose faces). Balls
+// already bordered by earlier patches come out as half-discs around their
+// seed, which still fill their rectangles (pi/4). A ball that lies flat but
+// curled (around a tube) is shrunk while that raises its fill.
+void grow_balls(Grower& g, const std::vector<uint32_t>& opp, const FaceFrames& fr,
+                const EmbedOptions& opt, const DensityRule& dr,
+                std::vector<std::vector<uint32_t>>& patches) {
+  const TriMesh& m = g.mesh();
+  const uint32_t nf = m.face_count();
+  const std::vector<double>&nrm = fr.normal, &cen = fr.centroid, &area = fr.area;
+  auto floodable = [&](uint32_t f) { return area[f] > 0 && !face_has_repeated_vertex(m, f); };
+  std::vector<double> dist(nf, std::numeric_limits<double>::infinity());
+  std::vector<uint32_t> stamp(nf, 0), done(nf, 0), rank(nf, 0), ord, faces, verts;
+  size_t last_good = 0;
+  std::vector<Vec2> scratch;
+  const double min_fill = opt.ball_min_fill;
+  const int ball_shrinks = opt.ball_shrinks;
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> heap;
+  uint32_t label = 1, ball = 0;
+  std::fill(g.region.begin(), g.region.end(), 0u);
+  for (uint32_t s = 0; s < nf; ++s) {
+    if (g.face_patch[s] != kNone) continue;
+    const uint32_t id = static_cast<uint32_t>(patches.size());
+    ++ball;
+    ord.clear();
+    heap = {};
+    if (floodable(s)) {
+      dist[s] = 0, stamp[s] = ball;
+      heap.push({0.0, s});
+    } else {
+      ord.push_back(s);
+    }
+    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+    const double* ns = &nrm[3 * size_t{s}];
+    // Extends ord to n faces (fewer when the ball runs out).
+    auto extend = [&](size_t n) {
+      while (ord.size() < n && !heap.empty()) {
+        const auto [d, f] = heap.top();
+        heap.pop();
+        if (done[f] == ball || d > dist[f]) continue;
+        if (!dr.admits(lo, hi, f)) continue;
+        DensityRule::extend(lo, hi, dr.at(f));
+        done[f] = ball;
+        rank[f] = static_cast<uint32_t>(ord.size());
+        ord.push_back(f);
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t o = opp[3 * f + k];
+          if (o == kNone) continue;
+          const uint32_t h = o / 3;
+          if (g.face_patch[h] != kNone || !floodable(h) || done[h] == ball) continue;
+          const double dx = cen[3 * h] - cen[3 * f], dy = cen[3 * h + 1] - cen[3 * f + 1],
+                       dz = cen[3 * h + 2] - cen[3 * f + 2];
+          const double dev = 1.0 - (nrm[3 * h] * ns[0] + nrm[3 * h + 1] * ns[1] + nrm[3 * h + 2] * ns[2]);
+          const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz) * (1.0 + opt.normal_weight * dev);
+          if (stamp[h] == ball && dist[h] <= nd) continue;
+          stamp[h] = ball, dist[h] = nd;
+          heap.push({nd, h});
+        }
+      }
+    };
+    // Trial: does the prefix of n faces grow whole?
+    auto trial = [&](size_t n, bool whole) {
+      ++label;
+      for (size_t i = 0; i < n; ++i) g.region[ord[i]] = label;
+      const bool ok = g.grow(s, id, faces, verts, whole) && faces.size() == n;
+      if (whole)
+        for (uint32_t f : faces) g.face_patch[f] = kNone;
+      return ok;
+    };
+    // Largest prefix that grows whole: start near the last ball's size,
+    // double while it grows whole, and after a failure cut the prefix just
+    // before the face the growth had to leave out.
+    size_t good = 0, n = std::max<size_t>(64, last_good);
+    for (int tries = 0; tries < 12; ++tries) {
+      extend(n);
+      const size_t k = std::min(n, ord.size());
+      if (k <= good) break;
+      if (trial(k, true)) {
+        good = k;
+        if (ord.size() < n) break;
+        n = 2 * k;
+        continue;
+      }
+      size_t cut = k - 1;
+      const uint32_t bad = g.fail_face;
+      if (bad != kNone && done[bad] == ball) cut = std::min(cut, size_t(rank[bad]));
+      else cut = std::min(cut, k - k / 4);
+      cut = std::min(cut, k - k / 16);
+      if (cut <= good) break;
+      // Up to the face left out, the growth (without "whole") keeps the
+      // ball and drops only what fails near its rim; no further trial.
+      extend(cut);
+      good = std::min(cut, ord.size());
+      break;
+    }
+    last_good = good;
+    size_t take = good > 0 ? good : std::min<size_t>(ord.size(), 8);
+    trial(take, false);
+    // A ball that lies flat but curled (around a tube, say) fills its
+    // rectangle badly: shrink it a few times, keep the best fill.
+    double fill = fill_from_vertices(g, faces, verts, scratch);
+    size_t best = take;
+    double best_fill = fill;
+    for (int t = 0; t < ball_shrinks && best_fill < min_fill && take > 32; ++t) {
+      for (uint32_t f : faces) g.face_patch[f] = kNone;
+      take -= take / 4;
+      trial(take, false);
+      fill = fill_from_vertices(g, faces, verts, scratch);
+      if (fill > best_fill) best_fill = fill, best = take;
+    }
+    if (best != take) {
+      for (uint32_t f : faces) g.face_patch[f] = kNone;
+      trial(best, false);
+    }
     patches.push_back(faces);
   }
 }
@@ -658,7 +646,7 @@ void patch_cone(const TriMesh& m, std::span<const uint32_t> faces, double out[4]
 // when the union regrows completely from its lowest face (so it replays
 // within tau, unflipped and overlap-free) and stays compact.
 void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptions& opt,
-                   const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
+                   double budget_x, const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
   const uint32_t np = static_cast<uint32_t>(patches.size());
   std::vector<double> fill(np, 1.0);
   std::vector<Vec2> scratch;
@@ -668,7 +656,7 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
   for (uint32_t p = 0; p < np; ++p) patch_cone(g.mesh(), patches[p], &cone[4 * size_t{p}]);
   std::set<std::array<uint32_t, 4>> failed;
   // Trials regrow whole unions; a budget in faces keeps the pass linear.
-  double budget = opt.merge_budget * double(g.face_patch.size());
+  double budget = budget_x * double(g.face_patch.size()) + kBudgetFloor;
   std::vector<double> saved;
   uint32_t next_label = 0;
   for (uint32_t f : g.region) next_label = std::max(next_label, f == kNone ? 0 : f + 1);
@@ -773,6 +761,120 @@ void merge_patches(Grower& g, const std::vector<uint32_t>& opp, const EmbedOptio
   }
 }
 
+// Seam straightening: a face with two or three edges on patch B moves to B
+// (one or three seam edges fewer, and a notch or hole gone) when both
+// patches still regrow whole afterwards. Moves between one pair of patches
+// are tried as a batch, then as halves. Returns the number of faces moved.
+size_t straighten_seams(Grower& g, const std::vector<uint32_t>& opp, int rounds, double budget_x,
+                        const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
+  const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
+  double budget = budget_x * double(nf) + kBudgetFloor;
+  struct Group {
+    size_t begin, end;
+  };
+  std::vector<Group> groups;
+  std::vector<uint32_t> touched(patches.size(), 0), faces, verts, keep, grow_b;
+  std::vector<double> saved;
+  std::vector<uint32_t> saved_faces, saved_patch;
+  uint32_t label = 0;
+  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  size_t moved_total = 0;
+  struct Move {
+    uint32_t a, b, f;
+  };
+  std::vector<Move> moves;
+  // Regrows the face set `set` as patch `id`; true if it grew whole.
+  auto regrow = [&](const std::vector<uint32_t>& set, uint32_t id) {
+    if (set.empty()) return true;
+    const uint32_t lab = label++;
+    uint32_t seed = kNone;
+    for (uint32_t f : set) g.region[f] = lab, g.face_patch[f] = kNone, seed = std::min(seed, f);
+    const bool ok = g.grow(seed, id, faces, verts, true) && faces.size() == set.size();
+    if (!ok)
+      for (uint32_t f : faces) g.face_patch[f] = kNone;
+    return ok;
+  };
+  for (int round = 1; round <= rounds; ++round) {
+    moves.clear();
+    for (uint32_t f = 0; f < nf; ++f) {
+      const uint32_t a = g.face_patch[f];
+      uint32_t nb[3], n = 0;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o != kNone && g.face_patch[o / 3] != a) nb[n++] = g.face_patch[o / 3];
+      }
+      uint32_t b = kNone;
+      if (n >= 2 && nb[0] == nb[1]) b = nb[0];
+      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2])) b = nb[2];
+      if (b != kNone) moves.push_back({a, b, f});
+    }
+    if (moves.empty()) break;
+    std::stable_sort(moves.begin(), moves.end(), [](const Move& l, const Move& r) {
+      return l.a != r.a ? l.a < r.a : l.b < r.b;
+    });
+    groups.clear();
+    for (size_t i = 0; i < moves.size();) {
+      size_t j = i;
+      while (j < moves.size() && moves[j].a == moves[i].a && moves[j].b == moves[i].b) ++j;
+      groups.push_back({i, j});
+      i = j;
+    }
+    // Most faces to move first: the budget goes where the seams shrink most.
+    std::stable_sort(groups.begin(), groups.end(), [](const Group& l, const Group& r) {
+      return l.end - l.begin > r.end - r.begin;
+    });
+    size_t moved = 0;
+    for (const Group& gr : groups) {
+      const size_t i = gr.begin, j = gr.end;
+      const uint32_t a = moves[i].a, b = moves[i].b;
+      if (touched[a] == uint32_t(round) || touched[b] == uint32_t(round)) continue;
+      if (budget < double(patches[a].size() + patches[b].size())) return moved_total + moved;
+      std::vector<uint32_t>& A = patches[a];
+      std::vector<uint32_t>& B = patches[b];
+      if (dr.active) {  // B with the moved faces must keep the density rule
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (uint32_t f : B) DensityRule::extend(lo, hi, dr.at(f));
+        for (size_t t = i; t < j; ++t) DensityRule::extend(lo, hi, dr.at(moves[t].f));
+        if (lo <= hi && hi - lo > dr.limit) continue;
+      }
+      // Save both patches' state.
+      saved_faces.assign(A.begin(), A.end());
+      saved_faces.insert(saved_faces.end(), B.begin(), B.end());
+      saved.resize(saved_faces.size() * 6);
+      for (size_t t = 0; t < saved_faces.size(); ++t)
+        std::copy_n(&g.xy[6 * size_t{saved_faces[t]}], 6, &saved[6 * t]);
+      size_t count = j - i;
+      bool done = false;
+      for (int attempt = 0; attempt < 2 && count > 0 && !done; ++attempt, count /= 2) {
+        budget -= double(A.size() + B.size());
+        for (size_t t = i; t < i + count; ++t) g.face_patch[moves[t].f] = kNone;  // mark
+        keep.clear();
+        for (uint32_t f : A)
+          if (g.face_patch[f] != kNone) keep.push_back(f);
+        grow_b.assign(B.begin(), B.end());
+        for (size_t t = i; t < i + count; ++t) grow_b.push_back(moves[t].f);
+        for (size_t t = i; t < i + count; ++t) g.face_patch[moves[t].f] = a;  // unmark
+        if (regrow(keep, a) && regrow(grow_b, b)) {
+          A = keep;
+          B = grow_b;
+          moved += count;
+          done = true;
+        } else {
+          for (size_t t = 0; t < saved_faces.size(); ++t) {
+            const uint32_t f = saved_faces[t];
+            g.face_patch[f] = t < A.size() ? a : b;
+            std::copy_n(&saved[6 * t], 6, &g.xy[6 * size_t{f}]);
+          }
+        }
+      }
+      if (done) touched[a] = touched[b] = uint32_t(round);
+    }
+    moved_total += moved;
+    if (moved == 0) break;
+  }
+  return moved_total;
+}
+
 }  // namespace
 
 Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
@@ -788,15 +890,12 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
   std::vector<std::vector<uint32_t>> patches;
   if (opt.mode == PartitionMode::compact) {
     const DensityRule dr = make_density_rule(nf, opt);
-    cluster_regions(mesh, opp, opt.region_cone_deg, dr, nullptr, g.region);
-    lloyd_regions(mesh, opp, opt.lloyd_iterations, opt.normal_weight, dr, opt.density_weight, g.region);
-    if (dr.active) {
-      // Lloyd cells may straddle a density jump: split them by the rule.
-      const std::vector<uint32_t> cells = g.region;
-      cluster_regions(mesh, opp, 180.0, dr, &cells, g.region);
+    grow_balls(g, opp, face_frames(mesh), opt, dr, patches);
+    if (opt.merge) merge_patches(g, opp, opt, opt.merge_budget, dr, patches);
+    if (opt.straighten_rounds > 0) {
+      straighten_seams(g, opp, opt.straighten_rounds, opt.straighten_budget, dr, patches);
+      if (opt.merge) merge_patches(g, opp, opt, opt.remerge_budget, dr, patches);
     }
-    grow_all(g, patches);
-    if (opt.merge) merge_patches(g, opp, opt, dr, patches);
   } else {
     grow_all(g, patches, /*plain=*/true);
   }

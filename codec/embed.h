@@ -14,7 +14,7 @@
 namespace gltfwarp {
 
 enum class PartitionMode : uint8_t {
-  compact,  // near-disc regions first, grown within, then merged (issue 8)
+  compact,  // seeded balls sized to tau, merged, seams straightened (issue 8)
   greedy,   // the paper's plain BFS-rounds growth from the lowest free face (baseline)
 };
 
@@ -22,24 +22,28 @@ struct EmbedOptions {
   double tau = 1.3;                     // max distortion per triangle (paper's measure)
   PartitionMode mode = PartitionMode::compact;
   int place_attempts = 3;               // retries of a candidate after dropping its failing faces
-  double region_cone_deg = 55.0;        // compact: max angle between a face normal and its region's mean normal
-  int lloyd_iterations = 4;             // compact: re-seed/flood passes that make regions Voronoi-like
-  double normal_weight = 2.0;           // compact: flood cost factor (1 + w (1 - n.n_seed))
+  double normal_weight = 2.0;           // compact: ball cost factor (1 + w (1 - n.n_seed)) per unit length
+  double ball_min_fill = 0.75;          // compact: shrink a ball (up to ball_shrinks times, by 1/4) while
+  int ball_shrinks = 3;                 //   its area / min-rect area is below this
   bool merge = true;                    // compact: merge adjacent patches while the union still replays within tau
-  double merge_budget = 6.0;            // compact: merge trials may regrow at most this many x face count faces
+  double merge_budget = 4.0;            // compact: merge trials may regrow this many x face count faces
+                                        //   (plus a fixed 256k, so small meshes get every trial)
   int merge_rounds = 8;                 // compact: passes over adjacent patch pairs
   double merge_min_fill = 0.55;         // compact: a merge must keep area/min-rect >= this ...
-  double merge_max_cone_deg = 140.0;    // compact: skip merge trials whose normals spread wider
+  double merge_max_cone_deg = 160.0;    // compact: skip merge trials whose normals spread wider
   uint32_t merge_small_faces = 12;      // ... unless the smaller part has at most this many faces
+  int straighten_rounds = 16;           // compact: passes moving notch and hole faces across seams
+  double straighten_budget = 1.5;       // compact: their regrowth budget, x face count (plus 256k)
+  double remerge_budget = 1.5;          // compact: the merge pass after straightening, x face count
   // Compact: source texel density per face (texels per model unit, from
   // triangle_texel_density; 0 or not finite = unknown). When given, no region
   // and no merge puts two faces of known density whose densities differ by
   // more than max_density_ratio into one patch, so the packer's per-patch
   // scale can give densely textured parts (eyes, labels) their own detail.
+  // Balls skip, and seam straightening never moves, a face that would break it.
   std::span<const double> face_density;  // empty, or one per face
   double max_density_ratio = 4.0;       // > 1; <= 1 or not finite disables the rule (2 splits
                                         // the Duck's noisy UV map into 2x the patches, no gain)
-  double density_weight = 16.0;         // compact: Lloyd cost term w (ln(d/d_seed) / ln ratio)^2
 };
 
 // Quality of an embedding. All figures are over the faces of one mesh.

@@ -5,12 +5,20 @@
 
 #include <cmath>
 #include <cstring>
+#include <chrono>
+#include <cstdlib>
+#include <algorithm>
 #include <map>
+#include <string>
 
 #include "codec/embed.h"
+#include "codec/embedding_mesh.h"
 #include "codec/geometry2d.h"
 #include "codec/shapes.h"
 #include "codec/texel_density.h"
+#include "format/gltf_io.h"
+#include "format/gltf_primitive.h"
+#include "support/corpus.h"
 
 namespace gltfwarp {
 namespace {
@@ -276,6 +284,82 @@ TEST(Embed, DensityRuleOnEveryShape) {
     const Embedding e = embed(m, opt);
     expect_guarantees(m, e, opt.tau);
     EXPECT_LE(worst_patch_density_ratio(e, density), opt.max_density_ratio * (1 + 1e-9));
+  }
+}
+
+// The triangle primitives of a corpus model that carry TEXCOORD_0, as the
+// embedding sees them (UVs and tangents dropped, positions welded by bits).
+std::vector<TriMesh> corpus_meshes(const std::string& path) {
+  std::vector<TriMesh> out;
+  tinygltf::Model model;
+  if (!read_gltf(path, model).ok) return out;
+  for (const auto& mesh : model.meshes)
+    for (const auto& prim : mesh.primitives) {
+      if (!is_triangle_mode(prim.mode)) continue;
+      PrimitiveGeometry geom;
+      if (!read_primitive(model, prim, geom).empty() || !geom.find("TEXCOORD_0")) continue;
+      geom.erase("TEXCOORD_0");
+      geom.erase("TANGENT");
+      std::vector<uint32_t> p2v;
+      const VertexAttribute* pos = geom.find("POSITION");
+      if (!pos || geom.triangles.empty()) continue;
+      out.push_back(embedding_mesh(*pos, geom.triangles, p2v));
+    }
+  return out;
+}
+
+// Sums of the issue-8 figures over the primitives of a model (each
+// primitive's area-weighted fill, weighted again by its 3D area).
+struct Figures {
+  uint32_t patches = 0, seams = 0, holes = 0, faces = 0;
+  double fill_w = 0, w = 0, seconds = 0;
+  bool ok = true;
+  double fill() const { return w > 0 ? fill_w / w : 1.0; }
+};
+
+Figures figures_of(const std::vector<TriMesh>& meshes, PartitionMode mode, double tau = 1.3) {
+  Figures fg;
+  for (const TriMesh& m : meshes) {
+    EmbedOptions opt;
+    opt.mode = mode;
+    opt.tau = tau;
+    const auto t0 = std::chrono::steady_clock::now();
+    const Embedding e = embed(m, opt);
+    fg.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    fg.ok &= e.status == LayoutStatus::ok && e.report.over_tau == 0 && e.report.flipped == 0;
+    fg.patches += e.patch_count;
+    fg.seams += e.report.seam_edges;
+    fg.holes += e.report.holes;
+    fg.faces += m.face_count();
+    double a = 0;
+    for (uint32_t f = 0; f < m.face_count(); ++f) a += area3(m, f);
+    fg.fill_w += e.report.fill * a;
+    fg.w += a;
+  }
+  return fg;
+}
+
+void print_row(const std::string& name, const Figures& g, const Figures& c) {
+  std::printf("%-18s F=%7u | greedy P=%5u seams=%6u fill=%.2f holes=%3u %.2fs | compact P=%5u seams=%6u "
+              "fill=%.2f holes=%3u %.2fs | ratio %.2f\n",
+              name.c_str(), g.faces, g.patches, g.seams, g.fill(), g.holes, g.seconds, c.patches, c.seams,
+              c.fill(), c.holes, c.seconds, g.seams ? double(c.seams) / g.seams : 0.0);
+}
+
+// Not a check: prints the issue-8 table. GLTFWARP_EMBED_FACES sets the
+// generated meshes' size.
+TEST(EmbedTable, DISABLED_Print) {
+  const char* env = std::getenv("GLTFWARP_EMBED_FACES");
+  const int faces = env ? std::atoi(env) : 3000;
+  for (const NamedShape& s : standard_shapes(faces)) {
+    if (s.name == "plane" || s.name == "degenerate_soup") continue;
+    const std::vector<TriMesh> ms = {s.shape.mesh};
+    print_row(s.name, figures_of(ms, PartitionMode::greedy), figures_of(ms, PartitionMode::compact));
+  }
+  for (const auto& cm : test::corpus_models()) {
+    const std::vector<TriMesh> ms = corpus_meshes(cm.path);
+    if (ms.empty()) continue;
+    print_row(cm.name, figures_of(ms, PartitionMode::greedy), figures_of(ms, PartitionMode::compact));
   }
 }
 
