@@ -179,11 +179,18 @@ TEST(Embed, MeasureSeesSeamsOfAGivenPartition) {
   EXPECT_EQ(r.holes, 0u);
 }
 
-// Issue 8 against plain greedy, on the paper-like shapes. Asserted: what the
-// compact mode achieves today (fill about doubled, about 0.6; seams not
-// worse than greedy by more than 20%; no more holes). Issue 8's full targets
-// (seams <= 50% of greedy, fill >= 0.6 everywhere) are not met on these
-// smooth shapes yet, where this greedy already leaves few holes.
+void expect_guarantees(const TriMesh& m, const Embedding& e, double tau) {
+  ASSERT_EQ(e.status, LayoutStatus::ok);
+  ASSERT_EQ(e.encoder_xy.size(), e.corner_xy.size());
+  EXPECT_EQ(std::memcmp(e.encoder_xy.data(), e.corner_xy.data(), e.corner_xy.size() * 8), 0);
+  const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, tau);
+  EXPECT_EQ(r.over_tau, 0u);
+  EXPECT_EQ(r.flipped, 0u);
+  EXPECT_EQ(count_overlaps(e), 0u);
+}
+
+// Issue 8 against plain greedy on the coarse standard shapes (about 3k
+// faces): fewer seams, about twice the fill, no holes.
 TEST(Embed, CompactBeatsGreedy) {
   const std::vector<NamedShape> shapes = standard_shapes(3000);
   for (const NamedShape& s : shapes) {
@@ -198,8 +205,47 @@ TEST(Embed, CompactBeatsGreedy) {
                 rc.seam_edges, rc.fill, rc.holes);
     EXPECT_GE(rc.fill, 0.55);
     EXPECT_GE(rc.fill, rg.fill - 0.1);
-    EXPECT_LE(rc.seam_edges, 1.2 * rg.seam_edges);
-    EXPECT_LE(rc.holes, rg.holes);
+    EXPECT_LE(rc.seam_edges, 0.85 * rg.seam_edges);
+    EXPECT_EQ(rc.holes, 0u);
+  }
+}
+
+// Issue 8's targets on the generated shapes it names, at about 30k faces.
+// Measured (seams / greedy's, fill): sphere 0.40, 0.65; bumpy sphere 0.57,
+// 0.63; twisted loop 0.58, 0.60; twisted cone 0.56, 0.57. Greedy's ragged
+// borders grow with the resolution and compact patches' do not, so the
+// ratio falls with size (at 100k: 0.23 to 0.56; at 3k: 0.62 to 0.80). Where
+// it stays above 0.5 or the fill below 0.6, the bound asserted is what is
+// reached (see the closing note of issue 8).
+TEST(Embed, CompactTargetsOnGeneratedShapes) {
+  struct Target {
+    const char* name;
+    double max_seam_ratio, min_fill;
+  };
+  const Target targets[] = {{"sphere", 0.50, 0.60},
+                            {"bumpy_sphere", 0.62, 0.60},
+                            {"twisted_loop", 0.63, 0.58},
+                            {"twisted_cone", 0.61, 0.55}};
+  const std::vector<NamedShape> shapes = standard_shapes(30000);
+  for (const Target& t : targets) {
+    SCOPED_TRACE(t.name);
+    const NamedShape* s = nullptr;
+    for (const NamedShape& x : shapes)
+      if (x.name == t.name) s = &x;
+    ASSERT_NE(s, nullptr);
+    const TriMesh& m = s->shape.mesh;
+    EmbedOptions g, c;
+    g.mode = PartitionMode::greedy;
+    const EmbedReport rg = embed(m, g).report;
+    const Embedding e = embed(m, c);
+    expect_guarantees(m, e, c.tau);
+    const EmbedReport& rc = e.report;
+    std::printf("%-14s F=%u greedy seams=%u fill=%.2f | compact P=%u seams=%u (%.2f) fill=%.2f holes=%u\n",
+                t.name, m.face_count(), rg.seam_edges, rg.fill, rc.patch_count, rc.seam_edges,
+                double(rc.seam_edges) / rg.seam_edges, rc.fill, rc.holes);
+    EXPECT_LE(rc.seam_edges, t.max_seam_ratio * rg.seam_edges);
+    EXPECT_GE(rc.fill, t.min_fill);
+    EXPECT_EQ(rc.holes, 0u);
   }
 }
 
@@ -217,15 +263,6 @@ double worst_patch_density_ratio(const Embedding& e, const std::vector<double>& 
   return worst;
 }
 
-void expect_guarantees(const TriMesh& m, const Embedding& e, double tau) {
-  ASSERT_EQ(e.status, LayoutStatus::ok);
-  ASSERT_EQ(e.encoder_xy.size(), e.corner_xy.size());
-  EXPECT_EQ(std::memcmp(e.encoder_xy.data(), e.corner_xy.data(), e.corner_xy.size() * 8), 0);
-  const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, tau);
-  EXPECT_EQ(r.over_tau, 0u);
-  EXPECT_EQ(r.flipped, 0u);
-  EXPECT_EQ(count_overlaps(e), 0u);
-}
 
 // A plane whose source UVs give its right half 8x the texel density of its
 // left half: without densities it is one patch; with them no patch spans
@@ -344,6 +381,39 @@ void print_row(const std::string& name, const Figures& g, const Figures& c) {
               "fill=%.2f holes=%3u %.2fs | ratio %.2f\n",
               name.c_str(), g.faces, g.patches, g.seams, g.fill(), g.holes, g.seconds, c.patches, c.seams,
               c.fill(), c.holes, c.seconds, g.seams ? double(c.seams) / g.seams : 0.0);
+}
+
+// Issue 8 on the corpus models the design names, all primitives with
+// TEXCOORD_0 summed. Measured (seams / greedy's, fill, holes): Duck 0.66,
+// 0.65, 0; Fox 0.84, 0.57, 0; CesiumMilkTruck 1.05, 0.50, 2. The Fox and the
+// truck are low-poly, mostly flat panels meeting at creases and small parts
+// of a few faces, where plain greedy's patches are already few and not
+// ragged; the bounds asserted are what is reached.
+TEST(EmbedCorpus, CompactAgainstGreedy) {
+  GLTFWARP_REQUIRE_CORPUS();
+  struct Target {
+    const char* name;
+    double max_seam_ratio, min_fill;
+    uint32_t max_holes;
+  };
+  const Target targets[] = {{"Duck", 0.70, 0.60, 0}, {"Fox", 0.90, 0.55, 0}, {"CesiumMilkTruck", 1.10, 0.48, 2}};
+  const auto models = test::corpus_models();
+  for (const Target& t : targets) {
+    SCOPED_TRACE(t.name);
+    std::string path;
+    for (const auto& cm : models)
+      if (cm.name == t.name) path = cm.path;
+    ASSERT_FALSE(path.empty()) << "corpus model missing";
+    const std::vector<TriMesh> ms = corpus_meshes(path);
+    ASSERT_FALSE(ms.empty());
+    const Figures g = figures_of(ms, PartitionMode::greedy), c = figures_of(ms, PartitionMode::compact);
+    print_row(t.name, g, c);
+    EXPECT_TRUE(c.ok);
+    EXPECT_LE(c.seams, t.max_seam_ratio * g.seams);
+    EXPECT_GE(c.fill(), t.min_fill);
+    EXPECT_LE(c.holes, t.max_holes);
+    for (const TriMesh& m : ms) expect_guarantees(m, embed(m), 1.3);
+  }
 }
 
 // Not a check: prints the issue-8 table. GLTFWARP_EMBED_FACES sets the
