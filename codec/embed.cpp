@@ -564,10 +564,10 @@ void grow_balls(Grower& g, const std::vector<uint32_t>& opp, const FaceFrames& f
         for (uint32_t f : faces) g.face_patch[f] = kNone;
       return ok;
     };
-    // Largest prefix that grows whole: start near the last ball's size,
+    // Largest prefix that grows whole: start at twice the last ball's size,
     // double while it grows whole, and after a failure cut the prefix just
     // before the face the growth had to leave out.
-    size_t good = 0, n = std::max<size_t>(64, last_good);
+    size_t good = 0, n = std::max<size_t>(64, 2 * last_good);
     for (int tries = 0; tries < 12; ++tries) {
       extend(n);
       const size_t k = std::min(n, ord.size());
@@ -875,6 +875,64 @@ size_t straighten_seams(Grower& g, const std::vector<uint32_t>& opp, int rounds,
   return moved_total;
 }
 
+// Holes (issue 8): a patch of 1 to 3 faces whose every edge borders one
+// other patch B joins B when B with it still regrows whole. Unbudgeted:
+// holes are few, and each trial costs one regrowth of B.
+void absorb_holes(Grower& g, const std::vector<uint32_t>& opp, const DensityRule& dr,
+                  std::vector<std::vector<uint32_t>>& patches) {
+  std::vector<uint32_t> faces, verts, unite;
+  std::vector<double> saved;
+  uint32_t label = 0;
+  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  for (uint32_t p = 0; p < patches.size(); ++p) {
+    const std::vector<uint32_t>& H = patches[p];
+    if (H.empty() || H.size() > 3) continue;
+    uint32_t b = kNone;
+    bool hole = true;
+    for (uint32_t f : H)
+      for (int k = 0; k < 3 && hole; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone) {
+          hole = false;
+          break;
+        }
+        const uint32_t q = g.face_patch[o / 3];
+        if (q == p) continue;
+        if (b == kNone) b = q;
+        else if (b != q) hole = false;
+      }
+    if (!hole || b == kNone) continue;
+    std::vector<uint32_t>& B = patches[b];
+    if (dr.active) {
+      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+      for (uint32_t f : B) DensityRule::extend(lo, hi, dr.at(f));
+      for (uint32_t f : H) DensityRule::extend(lo, hi, dr.at(f));
+      if (lo <= hi && hi - lo > dr.limit) continue;
+    }
+    unite.assign(B.begin(), B.end());
+    unite.insert(unite.end(), H.begin(), H.end());
+    saved.resize(unite.size() * 6);
+    const uint32_t lab = label++;
+    uint32_t seed = kNone;
+    for (size_t i = 0; i < unite.size(); ++i) {
+      const uint32_t f = unite[i];
+      std::copy_n(&g.xy[6 * size_t{f}], 6, &saved[6 * i]);
+      g.region[f] = lab, g.face_patch[f] = kNone, seed = std::min(seed, f);
+    }
+    if (g.grow(seed, b, faces, verts, true) && faces.size() == unite.size()) {
+      B = faces;
+      patches[p].clear();
+      continue;
+    }
+    for (uint32_t f : faces) g.face_patch[f] = kNone;
+    for (size_t i = 0; i < unite.size(); ++i) {
+      const uint32_t f = unite[i];
+      g.face_patch[f] = i < B.size() ? b : p;
+      std::copy_n(&saved[6 * i], 6, &g.xy[6 * size_t{f}]);
+    }
+  }
+}
+
 }  // namespace
 
 Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
@@ -896,6 +954,7 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
       straighten_seams(g, opp, opt.straighten_rounds, opt.straighten_budget, dr, patches);
       if (opt.merge) merge_patches(g, opp, opt, opt.remerge_budget, dr, patches);
     }
+    absorb_holes(g, opp, dr, patches);
   } else {
     grow_all(g, patches, /*plain=*/true);
   }
