@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "codec/topology.h"
 
@@ -82,16 +83,32 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
     const double n = static_cast<double>(faces.size());
     p = {mx / n, my / n};
   }
+  // The edge weights 1 / l^2 do not change between steps: computed once, the
+  // same values as computing them in every step.
+  constexpr size_t kStackFaces = 16;
+  double stack_w[2 * kStackFaces];
+  std::vector<double> heap_w;
+  double* inv_l2 = stack_w;
+  if (faces.size() > kStackFaces) {
+    heap_w.resize(2 * faces.size());
+    inv_l2 = heap_w.data();
+  }
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const double la = faces[i].la, lb = faces[i].lb;
+    inv_l2[2 * i] = la != 0 ? 1.0 / (la * la) : 0.0;
+    inv_l2[2 * i + 1] = lb != 0 ? 1.0 / (lb * lb) : 0.0;
+  }
   for (int step = 0; step < kRelaxSteps; ++step) {
     double nx = 0, ny = 0, nw = 0;
-    for (const Unfolding& f : faces) {
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const Unfolding& f = faces[i];
       for (int k = 0; k < 2; ++k) {
         const Vec2 x = k == 0 ? f.a : f.b;
         const double l = k == 0 ? f.la : f.lb;
         const double dx = p.x - x.x, dy = p.y - x.y;
         const double r = std::sqrt(dx * dx + dy * dy);
         if (l == 0 || r == 0) continue;
-        const double w = 1.0 / (l * l), g = l / r;
+        const double w = inv_l2[2 * i + k], g = l / r;
         nx += w * (x.x + g * dx);
         ny += w * (x.y + g * dy);
         nw += w;
@@ -108,9 +125,11 @@ namespace {
 // face): the faces of v in patch p are one contiguous run, ascending. Filled
 // by walking the faces patch by patch (pfaces order), so no sort is needed.
 struct PatchIncidence {
+  struct Entry {
+    uint32_t patch, face;
+  };
   std::vector<uint32_t> offsets;  // vertex_count + 1
-  std::vector<uint32_t> face;     // 3 * face_count
-  std::vector<uint32_t> patch;    // patch of face[i]
+  std::vector<Entry> entries;     // 3 * face_count, (patch, face) side by side
   std::vector<uint32_t> cursor;   // per vertex: first entry not of an earlier patch
 };
 
@@ -120,10 +139,10 @@ struct PatchIncidence {
 inline uint32_t run_of(PatchIncidence& pi, uint32_t v, uint32_t p, uint32_t& begin) {
   uint32_t i = pi.cursor[v];
   const uint32_t end = pi.offsets[v + 1];
-  while (i < end && pi.patch[i] < p) ++i;
+  while (i < end && pi.entries[i].patch < p) ++i;
   pi.cursor[v] = i;
   begin = i;
-  while (i < end && pi.patch[i] == p) ++i;
+  while (i < end && pi.entries[i].patch == p) ++i;
   return i;
 }
 
@@ -159,8 +178,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
     inc.offsets.assign(size_t{nv} + 1, 0);
     for (size_t c = 0; c < nc; ++c) ++inc.offsets[idx[c] + 1];
     for (uint32_t v = 0; v < nv; ++v) inc.offsets[v + 1] += inc.offsets[v];
-    inc.face.resize(nc);
-    inc.patch.resize(nc);
+    inc.entries.resize(nc);
     inc.cursor.assign(inc.offsets.begin(), inc.offsets.end() - 1);
     std::vector<uint32_t>& fill = inc.cursor;  // restored below
     for (uint32_t p = 0; p < patch_count; ++p)
@@ -168,8 +186,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
         const uint32_t f = pfaces[i];
         for (int k = 0; k < 3; ++k) {
           const uint32_t e = fill[idx[3 * f + k]]++;
-          inc.face[e] = f;
-          inc.patch[e] = p;
+          inc.entries[e] = {p, f};
         }
       }
     std::copy(inc.offsets.begin(), inc.offsets.end() - 1, inc.cursor.begin());
@@ -205,7 +222,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
         uint32_t i;
         const uint32_t end = run_of(inc, v, p, i);
         for (; i < end; ++i) {
-          const uint32_t* t = idx + 3 * inc.face[i];
+          const uint32_t* t = idx + 3 * inc.entries[i].face;
           for (int k = 0; k < 3; ++k) {
             const uint32_t q = t[k], a = t[(k + 1) % 3], b = t[(k + 2) % 3];
             if (placed[q] == mark || listed[q] == round_stamp || q == a || q == b) continue;
@@ -224,7 +241,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
         uint32_t i;
         const uint32_t end = run_of(inc, q, p, i);
         for (; i < end; ++i) {
-          const uint32_t* t = idx + 3 * inc.face[i];
+          const uint32_t* t = idx + 3 * inc.entries[i].face;
           const uint32_t k = t[0] == q ? 0 : (t[1] == q ? 1 : 2);
           const uint32_t a = t[(k + 1) % 3], b = t[(k + 2) % 3];
           if (a == q || b == q) continue;  // q not exactly once (also skips the repeat listing)

@@ -300,11 +300,22 @@ int add_accessor(tinygltf::Model& model, const VertexAttribute& attr, int target
     const int n = attr.components;
     acc.minValues.assign(n, std::numeric_limits<double>::infinity());
     acc.maxValues.assign(n, -std::numeric_limits<double>::infinity());
-    for (size_t e = 0; e < acc.count; ++e)
-      for (int i = 0; i < n; ++i) {
-        acc.minValues[i] = std::min<double>(acc.minValues[i], attr.get(e, i));
-        acc.maxValues[i] = std::max<double>(acc.maxValues[i], attr.get(e, i));
-      }
+    if (attr.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT) {  // get() without the per-value switch
+      const uint8_t* p = attr.data.data();
+      for (size_t e = 0; e < acc.count; ++e)
+        for (int i = 0; i < n; ++i, p += 4) {
+          float v;
+          std::memcpy(&v, p, 4);
+          acc.minValues[i] = std::min<double>(acc.minValues[i], v);
+          acc.maxValues[i] = std::max<double>(acc.maxValues[i], v);
+        }
+    } else {
+      for (size_t e = 0; e < acc.count; ++e)
+        for (int i = 0; i < n; ++i) {
+          acc.minValues[i] = std::min<double>(acc.minValues[i], attr.get(e, i));
+          acc.maxValues[i] = std::max<double>(acc.maxValues[i], attr.get(e, i));
+        }
+    }
   }
   model.accessors.push_back(acc);
   return static_cast<int>(model.accessors.size() - 1);
