@@ -3,7 +3,7 @@
 
 #include <cmath>
 #include <cstring>
-#include <unordered_map>
+#include <vector>
 
 namespace gltfwarp {
 namespace {
@@ -35,20 +35,76 @@ struct Key {
   bool flip;
   bool operator==(const Key& o) const { return flip == o.flip && std::memcmp(v, o.v, sizeof v) == 0; }
 };
-struct KeyHash {
+struct KeyHash {  // four 64-bit words of bits, multiply-xorshift mixed
   size_t operator()(const Key& k) const {
-    uint64_t h = 1469598103934665603ull ^ uint64_t(k.flip);
-    const auto* b = reinterpret_cast<const unsigned char*>(k.v);
-    for (size_t i = 0; i < sizeof k.v; ++i) h = (h ^ b[i]) * 1099511628211ull;
-    return size_t(h);
+    uint64_t h = 0x9E3779B97F4A7C15ull ^ uint64_t(k.flip);
+    for (int i = 0; i < 4; ++i) {
+      uint64_t w;
+      std::memcpy(&w, &k.v[2 * i], 8);
+      h = (h ^ w) * 0xBF58476D1CE4E5B9ull;
+      h ^= h >> 31;
+    }
+    return size_t(h ^ (h >> 29));
   }
 };
 float canon(float f) { return f == 0.0f ? 0.0f : f; }  // -0 welds with +0
 
+// Key -> group id, open addressing with linear probing: the same ids, in the
+// same order of first appearance, as a hash map, without a node per key.
+class GroupTable {
+ public:
+  explicit GroupTable(size_t n) {
+    size_t cap = 16;
+    while (cap < 2 * n) cap <<= 1;
+    slots_.assign(cap, UINT32_MAX);
+    keys_.reserve(n);
+  }
+  // Returns the group of k, adding it as group size() when new.
+  uint32_t find_or_add(const Key& k, bool& fresh) {
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = KeyHash{}(k) & mask;; i = (i + 1) & mask) {
+      const uint32_t g = slots_[i];
+      if (g == UINT32_MAX) {
+        slots_[i] = static_cast<uint32_t>(keys_.size());
+        keys_.push_back(k);
+        fresh = true;
+        return slots_[i];
+      }
+      if (keys_[g] == k) {
+        fresh = false;
+        return g;
+      }
+    }
+  }
+
+ private:
+  std::vector<uint32_t> slots_;
+  std::vector<Key> keys_;
+};
+
 }  // namespace
 
-std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> corner_normals,
-                                   std::span<const float> corner_uv) {
+namespace {
+
+// Welding key of corner c without the orientation flag.
+Key corner_key(const TriMesh& mesh, std::span<const float> corner_normals, std::span<const float> corner_uv,
+               size_t c) {
+  Key k{};
+  const float* p = &mesh.positions[3 * size_t(mesh.indices[c])];
+  k.v[0] = canon(p[0]), k.v[1] = canon(p[1]), k.v[2] = canon(p[2]);
+  k.v[3] = canon(corner_normals[3 * c]), k.v[4] = canon(corner_normals[3 * c + 1]);
+  k.v[5] = canon(corner_normals[3 * c + 2]);
+  k.v[6] = canon(corner_uv[2 * c]), k.v[7] = canon(corner_uv[2 * c + 1]);
+  return k;
+}
+
+// corner_class, when given, names for each corner a class of equal keys
+// (without the flag), so that the welding needs no hash of every corner.
+// The groups are then (class, flag) instead of (key, flag): the same
+// partition of the corners, and the sums run in the same corner order.
+std::vector<float> corner_tangents_impl(const TriMesh& mesh, std::span<const float> corner_normals,
+                                        std::span<const float> corner_uv, const uint32_t* corner_class,
+                                        uint32_t class_count) {
   const uint32_t nf = mesh.face_count();
   const size_t nc = size_t(nf) * 3;
   std::vector<float> out(nc * 4, 0.0f);
@@ -58,8 +114,6 @@ std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> c
     return V3{p[0], p[1], p[2]};
   };
   auto N = [&](size_t c) { return unit(V3{corner_normals[3 * c], corner_normals[3 * c + 1], corner_normals[3 * c + 2]}); };
-  std::unordered_map<Key, uint32_t, KeyHash> groups;
-  groups.reserve(nc);
   std::vector<uint32_t> group_of(nc);
   std::vector<V3> sum;
   std::vector<double> bsign;
@@ -84,18 +138,23 @@ std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> c
       face_flip[f] = dot(cross(fn, face_t[f]), face_b[f]) < 0;
     }
   }
+  if (corner_class) {
+    for (size_t c = 0; c < nc; ++c) group_of[c] = 2 * corner_class[c] + face_flip[c / 3];
+    sum.resize(2 * size_t(class_count));
+    bsign.resize(2 * size_t(class_count), 0.0);
+  } else {
+    GroupTable groups(nc);
+    for (size_t c = 0; c < nc; ++c) {
+      Key k = corner_key(mesh, corner_normals, corner_uv, c);
+      k.flip = face_flip[c / 3];
+      bool fresh = false;
+      group_of[c] = groups.find_or_add(k, fresh);
+      if (fresh) sum.push_back({}), bsign.push_back(0);
+    }
+  }
   for (size_t c = 0; c < nc; ++c) {
     const uint32_t f = uint32_t(c / 3);
-    Key k{};
-    const float* p = &mesh.positions[3 * size_t(mesh.indices[c])];
-    k.v[0] = canon(p[0]), k.v[1] = canon(p[1]), k.v[2] = canon(p[2]);
-    k.v[3] = canon(corner_normals[3 * c]), k.v[4] = canon(corner_normals[3 * c + 1]);
-    k.v[5] = canon(corner_normals[3 * c + 2]);
-    k.v[6] = canon(corner_uv[2 * c]), k.v[7] = canon(corner_uv[2 * c + 1]);
-    k.flip = face_flip[f];
-    auto [it, fresh] = groups.emplace(k, uint32_t(sum.size()));
-    if (fresh) sum.push_back({}), bsign.push_back(0);
-    group_of[c] = it->second;
+    const uint32_t g = group_of[c];
     if (!face_ok[f]) continue;
     // Corner angle weight.
     const size_t c0 = 3 * size_t(f), k0 = c - c0;
@@ -103,9 +162,9 @@ std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> c
     const double angle = std::acos(std::max(-1.0, std::min(1.0, dot(e1, e2))));
     const V3 n = N(c);
     const V3 t = unit(face_t[f] - dot(face_t[f], n) * n);
-    sum[it->second] = sum[it->second] + angle * t;
+    sum[g] = sum[g] + angle * t;
     const V3 b = face_b[f] - dot(face_b[f], n) * n;
-    bsign[it->second] += angle * dot(cross(n, t), b);
+    bsign[g] += angle * dot(cross(n, t), b);
   }
   for (size_t c = 0; c < nc; ++c) {
     const uint32_t g = group_of[c];
@@ -116,6 +175,13 @@ std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> c
     out[4 * c + 3] = bsign[g] < 0 ? -1.0f : 1.0f;
   }
   return out;
+}
+
+}  // namespace
+
+std::vector<float> corner_tangents(const TriMesh& mesh, std::span<const float> corner_normals,
+                                   std::span<const float> corner_uv) {
+  return corner_tangents_impl(mesh, corner_normals, corner_uv, nullptr, 0);
 }
 
 std::vector<float> per_corner(const TriMesh& mesh, std::span<const float> per_vertex, int n) {
@@ -139,7 +205,24 @@ std::vector<float> vertex_tangents(std::span<const float> positions, std::span<c
   for (uint32_t i : m.indices)
     if (i >= nv) return out;
   const std::vector<float> cn = per_corner(m, normals, 3), cu = per_corner(m, uvs, 2);
-  const std::vector<float> ct = corner_tangents(m, cn, cu);
+  // All corners of a vertex share its key: weld the vertices (each through
+  // its first corner) rather than every corner.
+  const size_t nc = m.indices.size();
+  std::vector<uint32_t> vclass(nv, UINT32_MAX), corner_class(nc);
+  uint32_t classes = 0;
+  {
+    GroupTable table(nv);
+    for (size_t c = 0; c < nc; ++c) {
+      const uint32_t v = m.indices[c];
+      if (vclass[v] == UINT32_MAX) {
+        bool fresh = false;
+        vclass[v] = table.find_or_add(corner_key(m, cn, cu, c), fresh);
+        if (fresh) ++classes;
+      }
+      corner_class[c] = vclass[v];
+    }
+  }
+  const std::vector<float> ct = corner_tangents_impl(m, cn, cu, corner_class.data(), classes);
   std::vector<uint8_t> done(nv, 0);
   for (size_t c = 0; c < m.indices.size(); ++c) {
     const uint32_t v = m.indices[c];
