@@ -3,6 +3,7 @@
 // point's corners got different UVs; plain accessors out.
 #include "codec/decoder.h"
 
+#include <algorithm>
 #include <cstring>
 #include <unordered_map>
 
@@ -34,6 +35,17 @@ void renormalize_weights(PrimitiveGeometry& geom) {
   }
 }
 
+// write_primitive_plain appends the decoded arrays to buffer 0; make room for
+// them at once (growing geometrically) instead of through repeated
+// reallocations of a buffer that reaches tens of megabytes on large meshes.
+void reserve_plain_bytes(tinygltf::Model& model, const PrimitiveGeometry& geom) {
+  if (model.buffers.empty()) return;
+  size_t bytes = geom.triangles.size() * 4 + 4;
+  for (const auto& a : geom.attributes) bytes += a.data.size() + 4;
+  auto& buf = model.buffers[0].data;
+  if (buf.capacity() - buf.size() < bytes) buf.reserve(std::max(buf.size() + bytes, 2 * buf.capacity()));
+}
+
 }  // namespace
 
 std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report) {
@@ -62,6 +74,7 @@ std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, D
         err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
         if (!err.empty()) return where + err;
       } else {
+        reserve_plain_bytes(model, geom);
         write_primitive_plain(model, prim, geom, replaced);
       }
       report.primitives_decoded++;

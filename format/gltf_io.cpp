@@ -696,36 +696,47 @@ void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced) {
   }
   std::vector<int> view_map(model.bufferViews.size(), -1);
   std::vector<tinygltf::BufferView> kept_views;
-  // When the referenced views already sit in buffer 0 exactly where the
-  // rebuild would put them (a second compaction, or a file we wrote), the
-  // rebuilt buffer equals buffer 0 with its alignment gaps zeroed: reuse it
-  // instead of copying every byte.
-  size_t total = 0;
+  // When every referenced view lies in buffer 0, in ascending order and
+  // without overlap, and none would move up, the rebuild can slide them down
+  // inside buffer 0 (front to back, so nothing is overwritten before it is
+  // read) and zero the alignment gaps: the same bytes as copying into a new
+  // buffer, without a second copy of everything (the decoder's buffer holds
+  // the whole decoded geometry).
+  size_t total = 0, old_end = 0;
   bool in_place = model.buffers.size() == 1;
-  for (size_t i = 0; i < model.bufferViews.size(); ++i) {
+  for (size_t i = 0; i < model.bufferViews.size() && in_place; ++i) {
     if (!view_refs[i]) continue;
     const tinygltf::BufferView& v = model.bufferViews[i];
+    const size_t size = model.buffers[0].data.size();
     total = (total + 3) / 4 * 4;
-    in_place = in_place && v.buffer == 0 && v.byteOffset == total &&
-               v.byteLength <= model.buffers[0].data.size() - std::min(v.byteOffset, model.buffers[0].data.size());
+    in_place = v.buffer == 0 && v.byteOffset <= size && v.byteLength <= size - v.byteOffset &&
+               v.byteOffset >= old_end && total <= v.byteOffset;
+    old_end = v.byteOffset + v.byteLength;
     total += v.byteLength;
   }
-  in_place = in_place && (total + 3) / 4 * 4 == model.buffers[0].data.size();
   if (in_place) {
     out.data = std::move(model.buffers[0].data);
     size_t end = 0;
     for (size_t i = 0; i < model.bufferViews.size(); ++i) {
       if (!view_refs[i]) continue;
-      const tinygltf::BufferView& v = model.bufferViews[i];
+      tinygltf::BufferView v = model.bufferViews[i];
+      const size_t offset = (end + 3) / 4 * 4;
       std::fill(out.data.begin() + static_cast<std::ptrdiff_t>(end),
-                out.data.begin() + static_cast<std::ptrdiff_t>(v.byteOffset), 0);
-      end = v.byteOffset + v.byteLength;
+                out.data.begin() + static_cast<std::ptrdiff_t>(offset), 0);
+      if (offset != v.byteOffset && v.byteLength)
+        std::memmove(out.data.data() + offset, out.data.data() + v.byteOffset, v.byteLength);
+      v.buffer = 0;
+      v.byteOffset = offset;
+      end = offset + v.byteLength;
       view_map[i] = static_cast<int>(kept_views.size());
       kept_views.push_back(v);
     }
-    std::fill(out.data.begin() + static_cast<std::ptrdiff_t>(end), out.data.end(), 0);
+    out.data.resize(end);
   } else {
-    out.data.reserve(total + 3);
+    size_t reserve = 0;
+    for (size_t i = 0; i < model.bufferViews.size(); ++i)
+      if (view_refs[i]) reserve += model.bufferViews[i].byteLength + 3;
+    out.data.reserve(reserve);
   }
   for (size_t i = 0; i < model.bufferViews.size() && !in_place; ++i) {
     if (!view_refs[i]) continue;
