@@ -16,7 +16,7 @@ Runner add_encode(CLI::App& app) {
     std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
         texel_budget = "count";
     EncodeOptions opt;
-    bool quiet = false, explicit_uvs = false;
+    bool quiet = false, explicit_uvs = false, always_implicit = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
@@ -41,6 +41,13 @@ Runner add_encode(CLI::App& app) {
   app.add_option("--image-format", a->image_format, "keep, png or jpeg")->default_val("keep")
       ->check(CLI::IsMember({"keep", "png", "jpeg"}));
   app.add_option("--jpeg-quality", a->opt.jpeg_quality, "JPEG quality of warped images; 0 matches the source's")->default_val(0)->check(CLI::Range(0, 100));
+  app.add_option("--min-psnr", a->opt.min_psnr,
+                 "Quality floor in dB (surface PSNR of each warped atlas against its source). Below it the density "
+                 "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
+                 "density, off when --texel-density is given; 0: off")
+      ->check(CLI::Range(0.0, 99.0));
+  app.add_flag("--always-implicit", a->always_implicit,
+               "Never fall back to explicit UVs for quality (still raise the density to meet --min-psnr)");
   app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
   app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")->default_val(14)->check(CLI::Range(1, 30));
   app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")->default_val(10)->check(CLI::Range(1, 30));
@@ -53,6 +60,7 @@ Runner add_encode(CLI::App& app) {
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
     opt.implicit_uvs = !a->explicit_uvs;
+    opt.quality_fallback = !a->always_implicit;
     opt.image_format = a->image_format;
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile

@@ -2,6 +2,7 @@
 // bitstream, UVs from decode_uvs (the decoder's own function), then the
 // warp of every TEXCOORD_0 texture and the material retargeting.
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <tuple>
@@ -12,7 +13,9 @@
 #include "codec/pack.h"
 #include "codec/tangents.h"
 #include "codec/texel_density.h"
+#include "codec/texture_sampler.h"
 #include "codec/warp.h"
+#include "codec/warp_quality.h"
 #include "format/decode_uvs.h"
 #include "format/extension.h"
 #include "format/gltf_materials.h"
@@ -45,11 +48,6 @@ std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const uint8_t> s
   encode_image(atlas, mime, quality, bytes, err);
   return err;
 }
-
-struct WarpOutput {
-  std::vector<uint8_t> bytes;
-  std::string mime;
-};
 
 // Tangent frames of one primitive for re-expressing a normal map: the
 // frame of the source UVs and the frame of the new UVs, per corner.
@@ -103,171 +101,296 @@ void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& wid
   }
 }
 
+namespace {
+
+// Slot sources are warped once per distinct (image, sampler, transform,
+// colour space, normal map).
+using JobKey = std::tuple<int, int, std::array<double, 6>, int, bool>;
+
+struct WarpJob {
+  JobKey key;
+  int image = -1;
+  std::vector<uint8_t> bytes;  // the encoded atlas image
+  std::string mime;
+};
+
+// One group's atlas at one texel density, built without touching the model,
+// so the encoder can measure it and try again or give up.
+struct GroupAtlas {
+  AtlasReport report;
+  std::vector<UvMap> maps;                      // per member
+  std::vector<std::vector<uint8_t>> bitstreams;  // per member
+  std::vector<WarpJob> jobs;
+  SurfaceError error;                           // colour slots: warped atlas against the source
+};
+
+std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                              const EncodeOptions& options, double density_factor, GroupAtlas& out) {
+  out = GroupAtlas{};
+  // Texel density: keep the source's detail (largest image each primitive samples).
+  std::vector<DensityPrimitive> dens;
+  for (size_t m : group.members) {
+    const auto& ip = plan.prims[m];
+    const auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+    uint32_t w = 0, h = 0;
+    largest_uv0_image(model, prim.material, w, h);
+    dens.push_back({&ip.tri, ip.source_uv, w, h});
+  }
+  double scale = options.texel_density, reference = 0;
+  if (!(scale > 0)) {
+    TexelDensityOptions to;
+    to.mode = options.texel_budget;
+    reference = auto_texel_scale(dens, to).texel_scale;
+    scale = reference * density_factor;
+  }
+
+  // Per-face density the layout needs (texels per layout unit, so the tau
+  // stretch counts) lets the packer give each patch its own scale step:
+  // with `auto`, each patch gets its faces' median density.
+  std::vector<std::vector<double>> density(group.members.size());
+  std::vector<PackPrimitive> pp;
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    density[k] = layout_texel_density(ip.corner_xy, ip.source_uv, dens[k].image_width, dens[k].image_height);
+    PackPrimitive p;
+    p.mesh = &ip.tri;
+    p.patch_of_face = ip.patch_of_face;
+    p.patch_count = ip.patch_count;
+    p.corner_xy = ip.corner_xy;
+    p.face_density = density[k];
+    pp.push_back(p);
+  }
+  PackOptions po;
+  po.texel_scale = scale;
+  po.density_reference = reference;
+  po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+  po.max_atlas_size = options.max_atlas_size;
+  po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
+  PackResult packed;
+  const PackStatus ps = pack_atlas(pp, po, packed);
+  if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
+  AtlasReport& ar = out.report;
+  ar.width = packed.report.atlas_width;
+  ar.height = packed.report.atlas_height;
+  ar.fill = packed.report.fill;
+  ar.overlapping_texels = packed.report.overlap_texels;
+  ar.density_factor = density_factor;
+
+  // Bitstreams, and the UVs exactly as the decoder will rebuild them.
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    auto& ip = plan.prims[group.members[k]];
+    UvMap map = packed.maps[k];
+    map.tau = static_cast<float>(options.tau);
+    std::vector<uint8_t> bytes;
+    UvStatus st = write_uvmap(map, ip.tri, bytes);
+    if (st != UvStatus::ok) return std::string("cannot write the UV bitstream: ") + to_string(st);
+    st = decode_uvs(ip.tri, bytes, ip.corner_uv);
+    if (st != UvStatus::ok) return std::string("the UV bitstream does not decode: ") + to_string(st);
+    out.maps.push_back(map);
+    out.bitstreams.push_back(std::move(bytes));
+  }
+
+  for (int mat : group.materials) {
+    for (const auto& slot : texture_slots(model, mat)) {
+      if (slot.tex_coord != 0) continue;
+      const int image = texture_image(model, slot.texture);
+      const int sampler = model.textures[slot.texture].sampler;
+      const JobKey key{image, sampler, slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
+      if (std::any_of(out.jobs.begin(), out.jobs.end(), [&](const WarpJob& j) { return j.key == key; })) continue;
+      OIIO::ImageBuf source;
+      std::string err;
+      if (!decode_image(model.images[image].image, source, err)) return "image " + std::to_string(image) + ": " + err;
+      WarpOptions wo;
+      wo.encoding = slot.normal_map ? SlotEncoding::normal
+                                    : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
+      int gl_wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, gl_wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
+      if (sampler >= 0 && static_cast<size_t>(sampler) < model.samplers.size()) {
+        gl_wrap_s = model.samplers[sampler].wrapS;
+        gl_wrap_t = model.samplers[sampler].wrapT;
+      }
+      wo.wrap_s = wrap_from_gltf(gl_wrap_s);
+      wo.wrap_t = wrap_from_gltf(gl_wrap_t);
+      for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
+      wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+      std::vector<WarpPrimitive> wp;
+      std::vector<SurfaceUvs> uvs;
+      std::vector<TangentFrames> frames;
+      frames.reserve(group.members.size());
+      for (size_t m : group.members) {
+        const auto& ip = plan.prims[m];
+        // Only the primitives whose material samples this image paint it.
+        const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
+        const auto slots = texture_slots(model, pm);
+        if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
+              return s.tex_coord == 0 && texture_image(model, s.texture) == image;
+            }))
+          continue;
+        WarpPrimitive w;
+        w.source_uv = ip.source_uv;
+        w.atlas_uv = ip.corner_uv;
+        if (slot.normal_map) {
+          frames.push_back(corner_frames(ip));
+          w.normals = frames.back().normals;
+          w.old_tangents = frames.back().old_tangents;
+          w.new_tangents = frames.back().new_tangents;
+        }
+        wp.push_back(w);
+        uvs.push_back({ip.source_uv, ip.corner_uv});
+      }
+      OIIO::ImageBuf atlas;
+      WarpReport wr;
+      const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
+      if (ws != WarpStatus::ok)
+        return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
+      if (!slot.normal_map) {
+        // Normal maps change legitimately (new tangent frames): colour slots only.
+        const bool srgb = slot.color_space == ColorSpace::srgb;
+        TextureSampler before, after;
+        load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, before);
+        load_texture_sampler(atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
+                             {1, 0, 0, 0, 1, 0}, after);
+        out.error.add(surface_error(before, after, uvs));
+      }
+      WarpJob job;
+      job.key = key;
+      job.image = image;
+      job.mime = output_mime(model.images[image].image, options.image_format);
+      int quality = options.jpeg_quality;
+      if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
+      if (quality <= 0) quality = 90;
+      err = encode_atlas(atlas, model.images[image].image, job.mime, quality, slot.normal_map, options.image_format,
+                         job.bytes);
+      if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
+      ar.source_image_bytes += model.images[image].image.size();
+      ar.atlas_image_bytes += job.bytes.size();
+      out.jobs.push_back(std::move(job));
+    }
+  }
+  ar.psnr = out.error.values ? out.error.psnr() : 0;
+  return {};
+}
+
+// The group's primitives get their bitstreams, its materials the atlases.
+void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group, GroupAtlas& built,
+                        EncodeReport& report, int& clamp_sampler, std::vector<int>& retired_textures) {
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    const UvMap& map = built.maps[k];
+    auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+    tinygltf::Value::Object obj;
+    obj[ext::kBufferView] = tinygltf::Value(add_buffer_view(model, built.bitstreams[k]));
+    obj[ext::kTexCoord] = tinygltf::Value(0);
+    obj[ext::kAtlasWidth] = tinygltf::Value(static_cast<int>(map.atlas_width));
+    obj[ext::kAtlasHeight] = tinygltf::Value(static_cast<int>(map.atlas_height));
+    if (ip.had_tangents) obj["tangents"] = tinygltf::Value(true);
+    prim.extensions[ext::kName] = tinygltf::Value(obj);
+    declare_extension(model, ext::kName, true);
+    auto& pr = report.primitives[ip.report_index];
+    pr.bitstream_bytes = built.bitstreams[k].size();
+    pr.atlas = static_cast<int>(report.atlases.size());
+  }
+  std::map<JobKey, int> made;  // -> new texture
+  for (WarpJob& job : built.jobs) {
+    tinygltf::Image img;
+    const auto& src = model.images[job.image];
+    img.name = src.name.empty() ? "atlas" : src.name + "_atlas";
+    img.mimeType = job.mime;
+    img.image = std::move(job.bytes);
+    img.as_is = true;
+    model.images.push_back(std::move(img));
+    if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
+    tinygltf::Texture tex;
+    tex.source = static_cast<int>(model.images.size() - 1);
+    tex.sampler = clamp_sampler;
+    model.textures.push_back(tex);
+    made[job.key] = static_cast<int>(model.textures.size() - 1);
+  }
+  // Slots as the source had them: retargeting must not change what later
+  // slots see.
+  std::map<int, std::vector<TextureSlot>> source_slots;
+  for (int mat : group.materials) source_slots[mat] = texture_slots(model, mat);
+  for (int mat : group.materials)
+    for (const auto& slot : source_slots[mat]) {
+      if (slot.tex_coord != 0) continue;
+      const JobKey key{texture_image(model, slot.texture), model.textures[slot.texture].sampler, slot.transform,
+                       static_cast<int>(slot.color_space), slot.normal_map};
+      const auto it = made.find(key);
+      if (it == made.end()) continue;
+      retired_textures.push_back(slot.texture);
+      retarget_slot(model, slot, it->second);
+    }
+  report.atlases.push_back(built.report);
+}
+
+// The group's primitive goes back to explicit UVs: its source accessors
+// (still in the model until compact_buffers) are written as plain Draco, or
+// raw, like any primitive without implicit UVs.
+std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options,
+                                 std::vector<int>& replaced, PrimitiveReport& pr, const std::string& why) {
+  tinygltf::Primitive& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+  for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);  // the implicit ones
+  if (prim.indices >= 0) replaced.push_back(prim.indices);
+  prim = ip.source_primitive;
+  PrimitiveGeometry geom;
+  std::string err = read_primitive(model, prim, geom);
+  if (!err.empty()) return err;
+  pr.geometry_bytes = 0;
+  pr.bitstream_bytes = 0;
+  pr.patches = 0;
+  pr.atlas = -1;
+  if (options.raw_geometry) {
+    write_primitive_plain(model, prim, geom, replaced);
+    for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
+    pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+  } else {
+    PrimitiveGeometry decoded;
+    err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);
+    if (!err.empty()) return err;
+  }
+  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+  return {};
+}
+
+}  // namespace
+
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                EncodeReport& report) {
+                                std::vector<int>& replaced, EncodeReport& report) {
   int clamp_sampler = -1;
-  std::vector<int> retired_textures;  // source textures the atlas replaced
+  std::vector<int> retired_textures;  // source textures the atlases replaced
+  const bool auto_density = !(options.texel_density > 0);
+  // The quality floor holds by default for the default density only: a
+  // chosen density (or factor) is a chosen trade-off.
+  const double min_psnr =
+      options.min_psnr >= 0 ? options.min_psnr : (auto_density && options.texel_density_factor == 1.0 ? 38.0 : 0.0);
+  std::vector<double> factors = {options.texel_density_factor};
+  if (auto_density && min_psnr > 0)
+    for (double boost : options.density_boosts) factors.push_back(options.texel_density_factor * boost);
   for (size_t gi = 0; gi < plan.groups.size(); ++gi) {
     auto& group = plan.groups[gi];
     if (group.members.empty()) continue;
     if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
-
-    // Texel density: keep the source's detail (largest image each primitive samples).
-    std::vector<DensityPrimitive> dens;
-    for (size_t m : group.members) {
-      const auto& ip = plan.prims[m];
-      const auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
-      uint32_t w = 0, h = 0;
-      largest_uv0_image(model, prim.material, w, h);
-      dens.push_back({&ip.tri, ip.source_uv, w, h});
+    GroupAtlas built;
+    for (double factor : factors) {
+      std::string err = build_group_atlas(model, plan, group, options, factor, built);
+      if (!err.empty()) return err;
+      if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr) break;
     }
-    double scale = options.texel_density, reference = 0;
-    if (!(scale > 0)) {
-      TexelDensityOptions to;
-      to.mode = options.texel_budget;
-      reference = auto_texel_scale(dens, to).texel_scale;
-      scale = reference * options.texel_density_factor;
-    }
-
-    // Per-face density the layout needs (texels per layout unit, so the tau
-    // stretch counts) lets the packer give each patch its own scale step:
-    // with `auto`, each patch keeps its source detail on 90% of its area.
-    std::vector<std::vector<double>> density(group.members.size());
-    std::vector<PackPrimitive> pp;
-    for (size_t k = 0; k < group.members.size(); ++k) {
-      const auto& ip = plan.prims[group.members[k]];
-      density[k] = layout_texel_stretch(ip.corner_xy, ip.source_uv, dens[k].image_width, dens[k].image_height);
-      PackPrimitive p;
-      p.mesh = &ip.tri;
-      p.patch_of_face = ip.patch_of_face;
-      p.patch_count = ip.patch_count;
-      p.corner_xy = ip.corner_xy;
-      p.face_density = density[k];
-      pp.push_back(p);
-    }
-    PackOptions po;
-    po.texel_scale = scale;
-    po.density_reference = reference;
-    po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
-    po.max_atlas_size = options.max_atlas_size;
-    po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
-    PackResult packed;
-    const PackStatus ps = pack_atlas(pp, po, packed);
-    if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
-
-    AtlasReport ar;
-    ar.width = packed.report.atlas_width;
-    ar.height = packed.report.atlas_height;
-    ar.fill = packed.report.fill;
-    ar.overlapping_texels = packed.report.overlap_texels;
-
-    // Bitstreams, and the UVs exactly as the decoder will rebuild them.
-    for (size_t k = 0; k < group.members.size(); ++k) {
-      auto& ip = plan.prims[group.members[k]];
-      UvMap map = packed.maps[k];
-      map.tau = static_cast<float>(options.tau);
-      std::vector<uint8_t> bytes;
-      UvStatus st = write_uvmap(map, ip.tri, bytes);
-      if (st != UvStatus::ok) return std::string("cannot write the UV bitstream: ") + to_string(st);
-      st = decode_uvs(ip.tri, bytes, ip.corner_uv);
-      if (st != UvStatus::ok) return std::string("the UV bitstream does not decode: ") + to_string(st);
-      auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
-      tinygltf::Value::Object obj;
-      obj[ext::kBufferView] = tinygltf::Value(add_buffer_view(model, bytes));
-      obj[ext::kTexCoord] = tinygltf::Value(0);
-      obj[ext::kAtlasWidth] = tinygltf::Value(static_cast<int>(map.atlas_width));
-      obj[ext::kAtlasHeight] = tinygltf::Value(static_cast<int>(map.atlas_height));
-      if (ip.had_tangents) obj["tangents"] = tinygltf::Value(true);
-      prim.extensions[ext::kName] = tinygltf::Value(obj);
-      declare_extension(model, ext::kName, true);
-      auto& pr = report.primitives[ip.report_index];
-      pr.bitstream_bytes = bytes.size();
-      pr.atlas = static_cast<int>(report.atlases.size());
-    }
-
-    // Warp every distinct (slot source, sampler, transform, colour space) once.
-    using JobKey = std::tuple<int, int, std::array<double, 6>, int, bool>;
-    std::map<JobKey, int> made;  // -> new texture
-    // Slots as the source had them: retargeting below must not change what
-    // later jobs see.
-    std::map<int, std::vector<TextureSlot>> source_slots;
-    for (int mat : group.materials) source_slots[mat] = texture_slots(model, mat);
-    for (int mat : group.materials) {
-      for (const auto& slot : source_slots[mat]) {
-        if (slot.tex_coord != 0) continue;
-        const int image = texture_image(model, slot.texture);
-        const int sampler = model.textures[slot.texture].sampler;
-        JobKey key{image, sampler, slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
-        auto it = made.find(key);
-        if (it == made.end()) {
-          OIIO::ImageBuf source;
-          std::string err;
-          if (!decode_image(model.images[image].image, source, err)) return "image " + std::to_string(image) + ": " + err;
-          WarpOptions wo;
-          wo.encoding = slot.normal_map ? SlotEncoding::normal
-                                        : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
-          if (sampler >= 0 && static_cast<size_t>(sampler) < model.samplers.size()) {
-            wo.wrap_s = wrap_from_gltf(model.samplers[sampler].wrapS);
-            wo.wrap_t = wrap_from_gltf(model.samplers[sampler].wrapT);
-          }
-          for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
-          wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
-          std::vector<WarpPrimitive> wp;
-          std::vector<TangentFrames> frames;
-          frames.reserve(group.members.size());
-          for (size_t m : group.members) {
-            const auto& ip = plan.prims[m];
-            // Only the primitives whose material samples this image paint it.
-            const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
-            const auto& slots = source_slots[pm];
-            if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
-                  return s.tex_coord == 0 && texture_image(model, s.texture) == image;
-                }))
-              continue;
-            WarpPrimitive w;
-            w.source_uv = ip.source_uv;
-            w.atlas_uv = ip.corner_uv;
-            if (slot.normal_map) {
-              frames.push_back(corner_frames(ip));
-              w.normals = frames.back().normals;
-              w.old_tangents = frames.back().old_tangents;
-              w.new_tangents = frames.back().new_tangents;
-            }
-            wp.push_back(w);
-          }
-          OIIO::ImageBuf atlas;
-          WarpReport wr;
-          const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
-          if (ws != WarpStatus::ok)
-            return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
-          const std::string mime = output_mime(model.images[image].image, options.image_format);
-          std::vector<uint8_t> bytes;
-          int quality = options.jpeg_quality;
-          if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
-          if (quality <= 0) quality = 90;
-          err = encode_atlas(atlas, model.images[image].image, mime, quality, slot.normal_map, options.image_format, bytes);
-          if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
-          WarpOutput wout{std::move(bytes), mime};
-          ar.source_image_bytes += model.images[image].image.size();
-          ar.atlas_image_bytes += wout.bytes.size();
-          tinygltf::Image img;
-          img.name = model.images[image].name.empty() ? "atlas" : model.images[image].name + "_atlas";
-          img.mimeType = wout.mime;
-          img.image = std::move(wout.bytes);
-          img.as_is = true;
-          model.images.push_back(std::move(img));
-          if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
-          tinygltf::Texture tex;
-          tex.source = static_cast<int>(model.images.size() - 1);
-          tex.sampler = clamp_sampler;
-          model.textures.push_back(tex);
-          it = made.emplace(key, static_cast<int>(model.textures.size() - 1)).first;
-        }
-        retired_textures.push_back(slot.texture);
-        retarget_slot(model, slot, it->second);
+    const double psnr = built.error.psnr();
+    if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
+      char why[160];
+      std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density, below --min-psnr %.1f",
+                    psnr, built.report.density_factor, min_psnr);
+      for (size_t m : group.members) {
+        auto& pr = report.primitives[plan.prims[m].report_index];
+        std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
+        if (!err.empty()) return err;
+        report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " + std::to_string(pr.primitive) +
+                               ": " + pr.handling);
+        plan.group_of.erase({pr.mesh, pr.primitive});
       }
+      continue;
     }
-    report.atlases.push_back(ar);
+    commit_group_atlas(model, plan, group, built, report, clamp_sampler, retired_textures);
   }
   drop_unused_textures(model, retired_textures);
   if (options.progress) options.progress("atlas", 1.0);

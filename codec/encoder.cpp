@@ -92,7 +92,7 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
     }
   }
   if (options.implicit_uvs) {
-    std::string err = finish_implicit_uvs(model, plan, options, report);
+    std::string err = finish_implicit_uvs(model, plan, options, replaced, report);
     if (!err.empty()) return err;
   }
   // Primitives read from Draco and written raw no longer need Draco, and

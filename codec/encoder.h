@@ -28,6 +28,14 @@ struct EncodeOptions {
   bool power_of_two = false;      // atlas sides as powers of two (else multiples of 4)
   std::string image_format = "keep";  // keep | png | jpeg
   int jpeg_quality = 0;           // JPEG output quality; 0 = match the source JPEG (90 for others)
+  // Quality floor of every warped atlas (surface PSNR against the source,
+  // dB, colour slots, before image compression; warp_quality.h). -1: 38 with
+  // the default auto density, off when a density or factor was chosen; 0: off.
+  // Below it, the density goes up by each of density_boosts in turn; still
+  // below, the group keeps explicit UVs (unless quality_fallback is false).
+  double min_psnr = -1;
+  std::vector<double> density_boosts = {1.5, 2.0};
+  bool quality_fallback = true;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 
@@ -51,6 +59,8 @@ struct AtlasReport {
   double fill = 0;              // covered texels / atlas texels
   size_t overlapping_texels = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
+  double density_factor = 1;    // times the measured texel density
+  double psnr = 0;              // surface PSNR of the warped colour slots (0: none measured)
 };
 
 struct EncodeReport {

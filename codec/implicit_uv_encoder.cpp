@@ -174,6 +174,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
                                        ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& pr) {
   ImplicitPrimitive ip;
+  ip.source_primitive = prim;
   ip.mesh = pr.mesh;
   ip.primitive = pr.primitive;
   ip.had_tangents = geom.find("TANGENT") != nullptr;

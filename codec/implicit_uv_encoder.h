@@ -27,6 +27,9 @@ struct ImplicitPrimitive {
   std::vector<double> corner_xy;     // layout_patches output
   std::vector<float> corner_uv;      // final UVs (decode_uvs output)
   bool had_tangents = false;
+  // The primitive as the source had it, accessors included (they stay in the
+  // model until compact_buffers), for a fall back to explicit UVs.
+  tinygltf::Primitive source_primitive;
 };
 
 struct AtlasGroup {
@@ -57,8 +60,11 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
 void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height);
 
 // Per group: pack, write bitstreams, rebuild UVs with decode_uvs, warp every
-// TEXCOORD_0 texture into the atlas and retarget the materials.
+// TEXCOORD_0 texture into the atlas and retarget the materials. A group whose
+// warped atlas stays below the quality floor (EncodeOptions::min_psnr) at
+// every density tried goes back to explicit UVs (accessors it no longer
+// uses are added to `replaced`).
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                EncodeReport& report);
+                                std::vector<int>& replaced, EncodeReport& report);
 
 }  // namespace gltfwarp

@@ -59,10 +59,10 @@ struct PackOptions {
   int32_t min_scale_step = -16;     // per-patch scale range, in format steps of 2^(1/4):
   int32_t max_scale_step = 12;      // 1/16 .. 8 times texel_scale
   // How a patch's density comes from its faces' face_density: the area-weighted
-  // quantile density_quantile (0.9: nine tenths of the patch keep their
-  // source detail), or with density_quantile <= 0 the RMS (texel-count
-  // preserving) mean.
-  double density_quantile = 0.9;
+  // quantile density_quantile (0.5: the median; 0.9 costs Duck 25% more
+  // bytes for no measurable gain), or with density_quantile <= 0 the RMS
+  // (texel-count preserving) mean.
+  double density_quantile = 0.5;
   // > 0: a patch's scale is texel_scale * (its density / density_reference),
   // so texel_scale / density_reference scales every patch alike. 0: relative
   // to the whole set's RMS density (the budget texel_scale sets is only

@@ -8,80 +8,31 @@
 #include <OpenImageIO/imagebuf.h>
 
 #include "codec/corner_match.h"
-#include "codec/image_io.h"
-#include "codec/warp.h"
+#include "codec/texture_sampler.h"
 #include "format/gltf_materials.h"
 #include "format/gltf_primitive.h"
 
 namespace gltfwarp {
 namespace {
 
-struct SlotImage {
-  OIIO::ImageBuf pixels;  // float; colour channels in linear light for sRGB slots
-  OIIO::ImageBuf::WrapMode wrap_s = OIIO::ImageBuf::WrapPeriodic, wrap_t = OIIO::ImageBuf::WrapPeriodic;
-  bool srgb = false;
-  std::array<double, 6> transform{1, 0, 0, 0, 1, 0};
-  bool ok = false;
-};
-
-// Folds a coordinate into [0, 1] as a sampler wrap mode does.
-double fold(double x, OIIO::ImageBuf::WrapMode w) {
-  if (w == OIIO::ImageBuf::WrapClamp) return std::clamp(x, 0.0, 1.0);
-  if (w == OIIO::ImageBuf::WrapMirror) {
-    const double m = x - 2.0 * std::floor(x / 2.0);
-    return m <= 1.0 ? m : 2.0 - m;
-  }
-  return x - std::floor(x);
-}
-
-// Bilinear sample with glTF's per-axis wrap (OIIO's interppixel takes one mode).
-void sample(const SlotImage& s, double u, double v, float* out) {
-  const bool same = s.wrap_s == s.wrap_t;
-  const double fu = same ? u : fold(u, s.wrap_s), fv = same ? v : fold(v, s.wrap_t);
-  s.pixels.interppixel_NDC(static_cast<float>(fu), static_cast<float>(fv), out,
-                           same ? s.wrap_s : OIIO::ImageBuf::WrapClamp);
-  if (s.srgb)
-    for (int c = 0; c < std::min(3, s.pixels.nchannels()); ++c) out[c] = linear_to_srgb(std::clamp(out[c], 0.0f, 1.0f));
-}
-
-OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
-  if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return OIIO::ImageBuf::WrapClamp;
-  if (gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return OIIO::ImageBuf::WrapMirror;
-  return OIIO::ImageBuf::WrapPeriodic;
-}
-
-SlotImage slot_image(const tinygltf::Model& m, int material, const std::string& key) {
-  SlotImage s;
+// The slot's texture as a viewer samples it, or ok = false.
+TextureSampler slot_sampler(const tinygltf::Model& m, int material, const std::string& key) {
+  TextureSampler s;
   for (const auto& slot : texture_slots(m, material)) {
     if (slot.name() != key || slot.tex_coord != 0) continue;
     const int img = texture_image(m, slot.texture);
     if (img < 0) return s;
-    std::string err;
-    OIIO::ImageBuf raw;
-    if (!decode_image(m.images[img].image, raw, err)) return s;
-    // A GPU filters sRGB textures in linear light: interpolate there too.
-    s.srgb = slot.color_space == ColorSpace::srgb;
-    OIIO::ImageSpec spec = raw.spec();
-    spec.set_format(OIIO::TypeDesc::FLOAT);
-    s.pixels.reset(spec);
-    std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-    raw.get_pixels(raw.roi(), OIIO::TypeDesc::FLOAT, px.data());
-    if (s.srgb)
-      for (size_t i = 0; i < px.size(); ++i)
-        if (static_cast<int>(i % spec.nchannels) < 3) px[i] = srgb_to_linear(px[i]);
-    s.pixels.set_pixels(s.pixels.roi(), OIIO::TypeDesc::FLOAT, px.data());
+    int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
     const int sampler = m.textures[slot.texture].sampler;
     if (sampler >= 0 && static_cast<size_t>(sampler) < m.samplers.size()) {
-      s.wrap_s = oiio_wrap(m.samplers[sampler].wrapS);
-      s.wrap_t = oiio_wrap(m.samplers[sampler].wrapT);
+      wrap_s = m.samplers[sampler].wrapS;
+      wrap_t = m.samplers[sampler].wrapT;
     }
-    s.transform = slot.transform;
-    s.ok = true;
+    load_texture_sampler(m.images[img].image, slot.color_space == ColorSpace::srgb, wrap_s, wrap_t, slot.transform, s);
     return s;
   }
   return s;
 }
-
 
 }  // namespace
 
@@ -102,7 +53,7 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
       const auto& sp = src.meshes[mi].primitives[pi];
       const auto& dp = dec.meshes[mi].primitives[pi];
       if (!is_triangle_mode(sp.mode)) continue;
-      SlotImage si = slot_image(src, sp.material, options.slot), di = slot_image(dec, dp.material, options.slot);
+      const TextureSampler si = slot_sampler(src, sp.material, options.slot), di = slot_sampler(dec, dp.material, options.slot);
       if (!si.ok || !di.ok) continue;
       PrimitiveGeometry sg, dg;
       if (!read_primitive(src, sp, sg).empty() || !read_primitive(dec, dp, dg).empty()) continue;
@@ -123,28 +74,21 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
       const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());
       const int channels = std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
       std::vector<float> a(static_cast<size_t>(si.pixels.nchannels())), b(static_cast<size_t>(di.pixels.nchannels()));
-      const int k = std::max(1, options.samples_per_face);
+      const double src_texels = double(si.pixels.spec().width) * si.pixels.spec().height *
+                                std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
       for (size_t f = 0; f < dg.triangles.size() / 3; ++f) {
         const uint32_t sc0 = match.source_corner[3 * f];
         if (sc0 == 0 && match.source_corner[3 * f + 1] == 0) continue;  // unmatched
-        for (int s = 0; s < k; ++s) {
-          // Interior points spread over the triangle (low-discrepancy weights).
-          const double u = (s + 0.5) / k, v = std::fmod(0.618034 * (s + 1), 1.0);
-          double w0 = 1 - std::sqrt(u), w1 = std::sqrt(u) * (1 - v), w2 = std::sqrt(u) * v;
-          double su = 0, sv = 0, du = 0, dv = 0;
-          const double w[3] = {w0, w1, w2};
-          for (int c = 0; c < 3; ++c) {
-            const uint32_t sv_id = sg.triangles[match.source_corner[3 * f + c]];
-            const uint32_t dv_id = dg.triangles[3 * f + c];
-            su += w[c] * suv->get(sv_id, 0);
-            sv += w[c] * suv->get(sv_id, 1);
-            du += w[c] * duv->get(dv_id, 0);
-            dv += w[c] * duv->get(dv_id, 1);
-          }
-          const auto& t = si.transform;
-          const double tu = t[0] * su + t[1] * sv + t[2], tv = t[3] * su + t[4] * sv + t[5];
-          sample(si, tu, tv, a.data());
-          sample(di, du, dv, b.data());
+        double su[3], sv[3], du[3], dv[3];
+        for (int c = 0; c < 3; ++c) {
+          const uint32_t sv_id = sg.triangles[match.source_corner[3 * f + c]];
+          const uint32_t dv_id = dg.triangles[3 * f + c];
+          su[c] = suv->get(sv_id, 0), sv[c] = suv->get(sv_id, 1);
+          du[c] = duv->get(dv_id, 0), dv[c] = duv->get(dv_id, 1);
+        }
+        auto visit = [&](double w0, double w1, double w2) {
+          si.sample( w0 * su[0] + w1 * su[1] + w2 * su[2], w0 * sv[0] + w1 * sv[1] + w2 * sv[2], a.data());
+          di.sample( w0 * du[0] + w1 * du[1] + w2 * du[2], w0 * dv[0] + w1 * dv[1] + w2 * dv[2], b.data());
           for (int c = 0; c < channels; ++c) {
             const double d = 255.0 * (a[c] - b[c]);
             sq += d * d;
@@ -152,6 +96,16 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
             r.max_abs = std::max(r.max_abs, std::abs(d));
           }
           r.samples++;
+        };
+        if (options.samples_per_face > 0) {
+          for (int s = 0; s < options.samples_per_face; ++s) {
+            // Interior points spread over the triangle (low-discrepancy weights).
+            const double u = (s + 0.5) / options.samples_per_face, v = std::fmod(0.618034 * (s + 1), 1.0);
+            visit(1 - std::sqrt(u), std::sqrt(u) * (1 - v), std::sqrt(u) * v);
+          }
+        } else {
+          const double area = 0.5 * std::abs((su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]));
+          for_each_surface_point(surface_points_per_side(area * src_texels), visit);
         }
       }
     }

@@ -86,7 +86,7 @@ std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const 
   return d;
 }
 
-std::vector<double> layout_texel_stretch(std::span<const double> corner_xy, std::span<const float> source_uv,
+std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height) {
   const size_t nf = std::min(corner_xy.size(), source_uv.size()) / 6;
   std::vector<double> out(nf, 0.0);
@@ -101,10 +101,12 @@ std::vector<double> layout_texel_stretch(std::span<const double> corner_xy, std:
     // J = [t1 t2] * inverse([e1 e2]).
     const double a = (t1x * e2y - t2x * e1y) / det, b = (t2x * e1x - t1x * e2x) / det;
     const double cc = (t1y * e2y - t2y * e1y) / det, d = (t2y * e1x - t1y * e2x) / det;
-    // Largest singular value of [[a b] [cc d]].
+    // Singular values of [[a b] [cc d]]: the largest, and their product |det|.
     const double s1 = a * a + b * b + cc * cc + d * d, s2 = a * d - b * cc;
     const double sigma = std::sqrt(0.5 * (s1 + std::sqrt(std::max(0.0, s1 * s1 - 4 * s2 * s2))));
-    if (std::isfinite(sigma)) out[f] = sigma;
+    // Geometric mean of the largest stretch and the area-preserving one.
+    const double v = std::sqrt(sigma * std::sqrt(std::abs(s2)));
+    if (std::isfinite(v)) out[f] = v;
   }
   return out;
 }

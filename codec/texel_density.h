@@ -58,13 +58,17 @@ struct TexelDensityReport {
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
                                            uint32_t image_width, uint32_t image_height);
 
-// Texels per layout unit that each face needs so that its source texels are
-// not minified in any direction: the largest singular value of the affine map
-// from the face's layout (corner_xy, 2 per corner) to its source texels
-// (source_uv times the image size). The layout stretches 3D lengths by up to
-// tau, so this, not the 3D density, is what the atlas must match. 0 for faces
-// degenerate in either space.
-std::vector<double> layout_texel_stretch(std::span<const double> corner_xy, std::span<const float> source_uv,
+// Texels per layout unit that each face needs to keep its source detail:
+// the geometric mean of the largest singular value of the affine map from
+// the face's layout (corner_xy, 2 per corner) to its source texels
+// (source_uv times the image size) and of its area scale sqrt|det|. The
+// layout stretches 3D lengths by up to tau, so this, not the 3D density, is
+// what the atlas must match. The largest singular value alone never minifies
+// but pays full density along a source's coarse direction; the area scale
+// alone keeps the texel count but blurs the fine direction of anisotropic
+// maps (measured on Duck: 41.3 dB at 34 KB, against 41.3 at 43 KB and 39.1 at
+// 32 KB). 0 for faces degenerate in either space.
+std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height);
 
 // Global texel scale for a set of primitives that share an atlas.

@@ -265,7 +265,7 @@ double worst_patch_density_ratio(const Embedding& e, const std::vector<double>& 
 }
 
 
-// A plane whose source UVs give its right half 8x the texel density of its
+// A plane whose source UVs give its right half 16x the texel density of its
 // left half: without densities it is one patch; with them no patch spans
 // the jump. A jump within the ratio (1.5x) still gives one patch.
 TEST(Embed, DensityJumpSplitsPatches) {
@@ -276,7 +276,7 @@ TEST(Embed, DensityJumpSplitsPatches) {
     for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
     return x / 3 > 0.5;
   };
-  for (double jump : {8.0, 1.5}) {
+  for (double jump : {16.0, 1.5}) {
     SCOPED_TRACE(jump);
     std::vector<float> uv(plane.corner_uv.size());
     for (uint32_t f = 0; f < m.face_count(); ++f)

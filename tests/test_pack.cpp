@@ -333,18 +333,19 @@ TEST(Pack, ThousandsOfPatchesPackWithoutOverlap) {
 }  // namespace
 }  // namespace gltfwarp
 
-// layout_texel_stretch: the largest singular value of layout -> source texels.
-TEST(TexelStretch, IsTheLargestSingularValueOfTheFaceMap) {
-  // Layout: a right triangle with unit legs. Source: 2x along x, 0.5x along y
-  // (in a 100 x 100 image, UV = texels / 100).
+// layout_texel_density: geometric mean of the largest singular value and
+// sqrt|det| of the layout -> source texel map.
+TEST(TexelDensity, LayoutDensityMixesLargestStretchAndAreaScale) {
+  // Layout: a right triangle with unit legs. Source: 4x along x, 1x along y
+  // (in a 100 x 100 image, UV = texels / 100): sigma_max 4, sqrt|det| 2.
   const std::vector<double> xy = {0, 0, 1, 0, 0, 1};
-  const std::vector<float> uv = {0.1f, 0.1f, 0.12f, 0.1f, 0.1f, 0.105f};
-  const std::vector<double> s = gltfwarp::layout_texel_stretch(xy, uv, 100, 100);
+  const std::vector<float> uv = {0.1f, 0.1f, 0.14f, 0.1f, 0.1f, 0.11f};
+  const std::vector<double> s = gltfwarp::layout_texel_density(xy, uv, 100, 100);
   ASSERT_EQ(s.size(), 1u);
-  EXPECT_NEAR(s[0], 2.0, 1e-4);
+  EXPECT_NEAR(s[0], std::sqrt(8.0), 1e-4);
   // Rotating the layout does not change it; a degenerate layout gives 0.
   const double c = std::cos(0.7), n = std::sin(0.7);
   const std::vector<double> rot = {0, 0, c, n, -n, c};
-  EXPECT_NEAR(gltfwarp::layout_texel_stretch(rot, uv, 100, 100)[0], 2.0, 1e-4);
-  EXPECT_EQ(gltfwarp::layout_texel_stretch(std::vector<double>{0, 0, 1, 1, 2, 2}, uv, 100, 100)[0], 0.0);
+  EXPECT_NEAR(gltfwarp::layout_texel_density(rot, uv, 100, 100)[0], std::sqrt(8.0), 1e-4);
+  EXPECT_EQ(gltfwarp::layout_texel_density(std::vector<double>{0, 0, 1, 1, 2, 2}, uv, 100, 100)[0], 0.0);
 }
