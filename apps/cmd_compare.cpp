@@ -16,6 +16,9 @@ Runner add_compare(CLI::App& app) {
   app.add_option("source", args->a, "The original .gltf/.glb")->required()->check(CLI::ExistingFile);
   app.add_option("decoded", args->b, "The same scene after encode + decode")->required()->check(CLI::ExistingFile);
   app.add_option("--slot", args->opt.slot, "Material slot to compare")->default_val("baseColorTexture");
+  app.add_flag("--lit", args->opt.lit,
+               "Compare lighting: the slot (a normal map, e.g. --slot normalTexture) under three lights through each "
+               "file's NORMAL and TANGENT");
   app.add_option("--samples", args->opt.samples_per_face, "Samples per triangle; 0 = about one per source texel")
       ->default_val(0)
       ->check(CLI::Range(0, 1000));

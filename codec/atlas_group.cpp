@@ -64,7 +64,8 @@ TangentFrames corner_frames(const ImplicitPrimitive& ip) {
   } else {
     f.normals = flat_corner_normals(ip.tri);
   }
-  f.old_tangents = corner_tangents(ip.tri, f.normals, ip.source_uv);
+  // The source's own TANGENT when it has one: viewers light it in that frame.
+  f.old_tangents = ip.source_tangents.empty() ? corner_tangents(ip.tri, f.normals, ip.source_uv) : ip.source_tangents;
   f.new_tangents = corner_tangents(ip.tri, f.normals, ip.corner_uv);
   return f;
 }

@@ -186,6 +186,14 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
       source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
       if (!std::isfinite(source_corner_uv[2 * c + i])) return "TEXCOORD_0 holds a NaN or infinite value";
     }
+  // A source TANGENT is the frame viewers light the source's normal map in:
+  // the warp re-expresses normals from it (else from MikkTSpace on the UVs).
+  std::vector<float> source_corner_tangent;
+  if (const VertexAttribute* tan = geom.find("TANGENT"); tan && tan->components == 4) {
+    source_corner_tangent.resize(geom.triangles.size() * 4);
+    for (size_t c = 0; c < geom.triangles.size(); ++c)
+      for (int i = 0; i < 4; ++i) source_corner_tangent[4 * c + i] = tan->get(geom.triangles[c], i);
+  }
   geom.erase("TEXCOORD_0");
   geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
   weld_vertices(geom.attributes, geom.triangles);
@@ -228,6 +236,11 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   ip.source_uv.resize(ip.decoded.triangles.size() * 2);
   for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
     for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];
+  if (!source_corner_tangent.empty()) {
+    ip.source_tangents.resize(ip.decoded.triangles.size() * 4);
+    for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
+      for (int i = 0; i < 4; ++i) ip.source_tangents[4 * c + i] = source_corner_tangent[4 * match.source_corner[c] + i];
+  }
 
   EmbedOptions eo;
   eo.tau = options.tau;

@@ -22,6 +22,7 @@ struct ImplicitPrimitive {
   PrimitiveGeometry decoded;         // what every decoder sees (Draco output or raw arrays)
   TriMesh tri;                       // embedding mesh (decoded positions welded exactly)
   std::vector<float> source_uv;      // TEXCOORD_0 of the source, 2 per corner of `tri`
+  std::vector<float> source_tangents;  // the source's TANGENT, 4 per corner of `tri` (empty if none)
   std::vector<uint32_t> patch_of_face;
   uint32_t patch_count = 0;
   std::vector<double> corner_xy;     // layout_patches output

@@ -34,6 +34,44 @@ TextureSampler slot_sampler(const tinygltf::Model& m, int material, const std::s
   return s;
 }
 
+// Lambert shading (N.L, clamped) under three fixed lights of the tangent-space
+// normal in rgb[0..2] (0..1 encoded), in the frame a viewer builds at
+// barycentric w of the face whose vertices are corners[0..2] of tris:
+// normalize(T), w_sign * cross(N, T), normalize(N). Overwrites rgb[0..2].
+void lambert(const VertexAttribute& normal, const VertexAttribute& tangent, const std::vector<uint32_t>& tris,
+             const uint32_t corners[3], const double w[3], float* rgb) {
+  double n[3] = {0, 0, 0}, t[3] = {0, 0, 0}, sign = 0;
+  for (int k = 0; k < 3; ++k) {
+    const uint32_t v = tris[corners[k]];
+    for (int i = 0; i < 3; ++i) n[i] += w[k] * normal.get(v, i), t[i] += w[k] * tangent.get(v, i);
+    sign += w[k] * tangent.get(v, 3);
+  }
+  auto unit = [](double* x) {
+    const double l = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    if (l > 0) x[0] /= l, x[1] /= l, x[2] /= l;
+  };
+  unit(n);
+  unit(t);
+  const double s = sign < 0 ? -1 : 1;
+  const double b[3] = {s * (n[1] * t[2] - n[2] * t[1]), s * (n[2] * t[0] - n[0] * t[2]), s * (n[0] * t[1] - n[1] * t[0])};
+  double m[3];
+  for (int i = 0; i < 3; ++i) m[i] = t[i] * (2.0 * rgb[0] - 1) + b[i] * (2.0 * rgb[1] - 1) + n[i] * (2.0 * rgb[2] - 1);
+  unit(m);
+  // Lights around the surface's own normal (so either side of a double-sided
+  // model is lit alike) in a frame built from the normal and a world axis
+  // only: the tangents differ between the files, the lights must not.
+  const double axis[3] = {std::abs(n[1]) < 0.9 ? 0.0 : 1.0, std::abs(n[1]) < 0.9 ? 1.0 : 0.0, 0.0};
+  double u[3] = {axis[1] * n[2] - axis[2] * n[1], axis[2] * n[0] - axis[0] * n[2], axis[0] * n[1] - axis[1] * n[0]};
+  unit(u);
+  const double v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
+  static const double lights[3][3] = {{0.0, 0.0, 1.0}, {0.6, 0.0, 0.8}, {0.0, -0.6, 0.8}};
+  for (int l = 0; l < 3; ++l) {
+    double dir[3];
+    for (int i = 0; i < 3; ++i) dir[i] = lights[l][0] * u[i] + lights[l][1] * v[i] + lights[l][2] * n[i];
+    rgb[l] = float(std::max(0.0, m[0] * dir[0] + m[1] * dir[1] + m[2] * dir[2]));
+  }
+}
+
 }  // namespace
 
 SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Model& dec,
@@ -69,11 +107,20 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
         }
       const double tol = (hi - lo) / 16383.0 * 2.0 + 1e-9;
       const CornerMatch match = match_corners(spos->to_floats(), sg.triangles, dpos->to_floats(), dg.triangles, tol);
+      // Lit: the normal map's effect under three lights, through each file's
+      // own normals and tangents (the decoded ones are rebuilt from new UVs).
+      const VertexAttribute *sn = sg.find("NORMAL"), *st = sg.find("TANGENT");
+      const VertexAttribute *dn = dg.find("NORMAL"), *dt = dg.find("TANGENT");
+      const bool lit = options.lit;
+      if (lit && (!sn || !st || !dn || !dt || st->components != 4 || dt->components != 4 || si.channels() < 3 ||
+                  di.channels() < 3))
+        continue;
       r.unmatched_faces += match.unmatched_faces;
       r.primitives++;
       const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());
-      const int channels = std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
-      std::vector<float> a(static_cast<size_t>(si.pixels.nchannels())), b(static_cast<size_t>(di.pixels.nchannels()));
+      const int channels = lit ? 3 : std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
+      std::vector<float> a(static_cast<size_t>(std::max(3, si.pixels.nchannels()))),
+          b(static_cast<size_t>(std::max(3, di.pixels.nchannels())));
       const double src_texels = double(si.pixels.spec().width) * si.pixels.spec().height *
                                 std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
       for (size_t f = 0; f < dg.triangles.size() / 3; ++f) {
@@ -87,8 +134,14 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
           du[c] = duv->get(dv_id, 0), dv[c] = duv->get(dv_id, 1);
         }
         auto visit = [&](double w0, double w1, double w2) {
-          si.sample( w0 * su[0] + w1 * su[1] + w2 * su[2], w0 * sv[0] + w1 * sv[1] + w2 * sv[2], a.data());
-          di.sample( w0 * du[0] + w1 * du[1] + w2 * du[2], w0 * dv[0] + w1 * dv[1] + w2 * dv[2], b.data());
+          si.sample(w0 * su[0] + w1 * su[1] + w2 * su[2], w0 * sv[0] + w1 * sv[1] + w2 * sv[2], a.data());
+          di.sample(w0 * du[0] + w1 * du[1] + w2 * du[2], w0 * dv[0] + w1 * dv[1] + w2 * dv[2], b.data());
+          if (lit) {
+            const double w[3] = {w0, w1, w2};
+            lambert(*sn, *st, sg.triangles, &match.source_corner[3 * f], w, a.data());
+            const uint32_t own[3] = {uint32_t(3 * f), uint32_t(3 * f + 1), uint32_t(3 * f + 2)};
+            lambert(*dn, *dt, dg.triangles, own, w, b.data());
+          }
           for (int c = 0; c < channels; ++c) {
             const double d = 255.0 * (a[c] - b[c]);
             sq += d * d;

@@ -26,6 +26,10 @@ struct SurfaceCompareOptions {
   // Interior points per triangle; 0: about one per source texel the face
   // covers (an n x n subdivision, 2 <= n <= 64), as benchmarks/compare does.
   int samples_per_face = 0;
+  // Compare lighting instead of colour: the slot (a normal map) lights each
+  // point through the file's own NORMAL and TANGENT under three fixed lights
+  // (Lambert, 0..255 per light). Primitives without both are skipped.
+  bool lit = false;
 };
 
 // `source` and `decoded` are the same scene before encoding and after

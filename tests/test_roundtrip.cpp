@@ -1,6 +1,7 @@
 // Round trips through the real CLI: every corpus model and generated samples
 // are encoded and decoded; both files must pass the Khronos validator with no
 // error code the source does not already have, and the scene must survive.
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <set>
@@ -196,4 +197,50 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
     const auto& dext = prim.extensions.at(kDracoExtension);
     EXPECT_EQ(dext.Get("attributes").Has("TEXCOORD_0"), !always) << "explicit UVs travel in the Draco data";
   }
+}
+
+// Issue 5: a normal-mapped model lit before and after. The decoded file's
+// tangents come from the new UVs and its normal map was re-expressed in
+// them, so the lighting must match the source's (compare --lit: Lambert
+// under three lights through each file's own NORMAL and TANGENT). Turning
+// the decoded tangents around shows the measure sees a wrong frame.
+TEST(CorpusRoundTrip, NormalMappedModelIsLitAlike) {
+  GLTFWARP_REQUIRE_CORPUS();
+  std::string path;
+  for (const auto& m : corpus_models())
+    if (m.name == "TwoSidedPlane") path = m.path;
+  ASSERT_FALSE(path.empty());
+  const std::string dir = scratch_dir("lit");
+  std::string out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q '" + path + "' -o " + dir + "/e.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &out), 0) << out;
+  tinygltf::Model sm, dm;
+  ASSERT_TRUE(read_gltf(path, sm).ok);
+  ASSERT_TRUE(read_gltf(dir + "/d.glb", dm).ok);
+  SurfaceCompareOptions lit;
+  lit.slot = "normalTexture";
+  lit.lit = true;
+  const SurfaceComparison q = compare_surface(sm, dm, lit);
+  ASSERT_TRUE(q.error.empty()) << q.error;
+  ASSERT_EQ(q.primitives, 1u);
+  std::printf("TwoSidedPlane lit PSNR %.2f dB\n", q.psnr);
+  // 36 dB before the warp took the source's own TANGENT as the old frame
+  // (its handedness differs from the one MikkTSpace-with-flipped-v gives).
+  EXPECT_GE(q.psnr, 45.0);
+
+  // The decoded tangents turned by 90 degrees about the normal.
+  auto& prim = dm.meshes[0].primitives[0];
+  const tinygltf::Accessor& acc = dm.accessors[prim.attributes.at("TANGENT")];
+  const tinygltf::BufferView& bv = dm.bufferViews[acc.bufferView];
+  const size_t stride = bv.byteStride ? bv.byteStride : 16;
+  auto* base = dm.buffers[bv.buffer].data.data() + bv.byteOffset + acc.byteOffset;
+  for (size_t i = 0; i < acc.count; ++i) {
+    float t[4];
+    std::memcpy(t, base + i * stride, 16);
+    const float turned[4] = {-t[2], t[1], t[0], t[3]};  // about +Y, the plane's normal
+    std::memcpy(base + i * stride, turned, 16);
+  }
+  const SurfaceComparison wrong = compare_surface(sm, dm, lit);
+  std::printf("with turned tangents %.2f dB\n", wrong.psnr);
+  EXPECT_LT(wrong.psnr, q.psnr - 6.0);
 }
