@@ -25,6 +25,9 @@ Runner add_encode(CLI::App& app) {
       ->default_val(1.3)->check(CLI::Range(1.0001, 100.0));
   app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
       ->default_val("compact")->check(CLI::IsMember({"compact", "greedy"}));
+  app.add_flag("--report-greedy", a->opt.report_greedy,
+               "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
+               "beside ours (not used for the output)");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
       ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
   app.add_option("--texel-density", a->texel_density,

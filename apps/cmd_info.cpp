@@ -132,8 +132,8 @@ Runner add_info(CLI::App& app) {
       return 0;
     }
     std::printf("%s\n", a->in.c_str());
-    std::printf("%-8s %-14s %8s %8s %9s %9s %7s %7s %6s %6s %6s\n", "prim", "geometry", "tris", "verts", "geom B",
-                "uvmap B", "bits/v", "patches", "maxD", "seams", "fill");
+    std::printf("%-8s %-14s %8s %8s %9s %9s %7s %7s %6s %6s %6s %5s\n", "prim", "geometry", "tris", "verts", "geom B",
+                "uvmap B", "bits/v", "patches", "maxD", "seams", "fill", "holes");
     for (const auto& p : out["primitives"]) {
       const std::string id = std::to_string(p["mesh"].get<size_t>()) + "/" + std::to_string(p["primitive"].get<size_t>());
       const std::string kind = p["geometry"].get<std::string>() + (p["implicit_uv"].get<bool>() ? "+implicit" : "");
@@ -144,9 +144,9 @@ Runner add_info(CLI::App& app) {
       std::printf("%-8s %-14s %8zu %8zu %9zu", id.c_str(), kind.c_str(), p["triangles"].get<size_t>(),
                   p["vertices"].get<size_t>(), p["geometry_bytes"].get<size_t>());
       if (p.contains("bitstream_bytes"))
-        std::printf(" %9zu %7.2f %7u %6.3f %6u %6.2f\n", p["bitstream_bytes"].get<size_t>(),
+        std::printf(" %9zu %7.2f %7u %6.3f %6u %6.2f %5u\n", p["bitstream_bytes"].get<size_t>(),
                     p["bits_per_vertex"].get<double>(), p["patches"].get<unsigned>(), p["max_distortion"].get<double>(),
-                    p["seam_edges"].get<unsigned>(), p["rect_fill"].get<double>());
+                    p["seam_edges"].get<unsigned>(), p["rect_fill"].get<double>(), p["holes"].get<unsigned>());
       else
         std::printf("\n");
     }

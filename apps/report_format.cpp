@@ -9,14 +9,18 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
   std::error_code ec;
   const auto in_size = std::filesystem::file_size(in, ec);
   const auto out_size = std::filesystem::file_size(out, ec);
-  std::printf("%-10s %-28s %8s %8s %9s %9s %7s %6s %6s %6s\n", "primitive", "handling", "tris", "verts", "geom B",
-              "uvmap B", "patches", "maxD", "seams", "fill");
+  std::printf("%-10s %-28s %8s %8s %9s %9s %7s %6s %6s %6s %5s\n", "primitive", "handling", "tris", "verts", "geom B",
+              "uvmap B", "patches", "maxD", "seams", "fill", "holes");
   for (const auto& p : r.primitives) {
     char id[32];
     std::snprintf(id, sizeof id, "%d/%d", p.mesh, p.primitive);
-    std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f\n", id, p.handling.c_str(), p.triangles,
+    std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f %5u\n", id, p.handling.c_str(), p.triangles,
                 p.vertices, p.geometry_bytes, p.bitstream_bytes, p.patches, p.max_distortion, p.seam_edges,
-                p.rect_fill);
+                p.rect_fill, p.holes);
+    if (p.greedy.patches > 0)
+      std::printf("%-10s %-28s %8s %8s %9s %9s %7u %6s %6u %6.2f %5u   (ours: %.0f%% of greedy's seams)\n", "",
+                  "  greedy baseline", "", "", "", "", p.greedy.patches, "", p.greedy.seam_edges, p.greedy.rect_fill,
+                  p.greedy.holes, p.greedy.seam_edges ? 100.0 * double(p.seam_edges) / p.greedy.seam_edges : 0.0);
   }
   std::string larger;  // atlases whose images outweigh the source's
   for (size_t i = 0; i < r.atlases.size(); ++i) {

@@ -20,6 +20,7 @@ struct EncodeOptions {
   bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
   double tau = 1.3;               // distortion bound of every triangle
   bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
+  bool report_greedy = false;     // also run greedy on each primitive and report its figures
   double texel_density = 0;       // texels per model unit; 0 = measured from the source (below)
   DensityMode texel_budget = DensityMode::preserve_texel_count;  // how "measured" counts source texels
   double texel_density_factor = 1.0;  // multiplies the measured density (e.g. 0.5 for half the detail)
@@ -49,6 +50,11 @@ struct PrimitiveReport {
   double max_distortion = 0, mean_distortion = 0;
   size_t seam_edges = 0;
   double rect_fill = 0;       // area-weighted patch area / min-area rectangle
+  uint32_t holes = 0;         // patches of 1-3 faces enclosed by one other patch
+  struct {                    // EncodeOptions::report_greedy: the plain greedy partition's figures
+    uint32_t patches = 0, seam_edges = 0, holes = 0;
+    double rect_fill = 0;
+  } greedy;
   size_t unmatched_faces = 0; // decoded faces not traced back to a source face
   int atlas = -1;             // index into EncodeReport::atlases
 };

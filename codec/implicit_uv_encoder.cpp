@@ -276,6 +276,19 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   pr.mean_distortion = er.report.mean_distortion;
   pr.seam_edges = er.report.seam_edges;
   pr.rect_fill = er.report.fill;
+  pr.holes = er.report.holes;
+  if (options.report_greedy && !options.greedy_partition) {
+    // The paper's plain growth on the same mesh, for comparison only.
+    EmbedOptions go = eo;
+    go.mode = PartitionMode::greedy;
+    const Embedding g = embed(ip.tri, go);
+    if (g.status == LayoutStatus::ok) {
+      pr.greedy.patches = g.patch_count;
+      pr.greedy.seam_edges = g.report.seam_edges;
+      pr.greedy.rect_fill = g.report.fill;
+      pr.greedy.holes = g.report.holes;
+    }
+  }
   plan.prims.push_back(std::move(ip));
   plan.groups[plan.group_of.at({pr.mesh, pr.primitive})].members.push_back(plan.prims.size() - 1);
   // Rare: faces Draco moved beyond the tolerance; their UVs come from corner 0.

@@ -58,8 +58,10 @@ TEST(Cli, SampleEncodeDecodeInfo) {
   // A torus: its source texel density is even, so a 128² texture keeps 38 dB
   // (the twisted cone's tip squeezes a full texture row into a point).
   ASSERT_EQ(run_command(cli() + " sample --shape torus --faces 1500 --texture-size 128 -o " + dir + "/s.glb 2>&1", &out), 0) << out;
-  ASSERT_EQ(run_command(cli() + " encode " + dir + "/s.glb -o " + dir + "/e.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(cli() + " encode --report-greedy " + dir + "/s.glb -o " + dir + "/e.glb 2>&1", &out), 0) << out;
   EXPECT_NE(out.find("implicit-uv"), std::string::npos) << out;
+  EXPECT_NE(out.find("greedy baseline"), std::string::npos) << out;
+  EXPECT_NE(out.find("holes"), std::string::npos) << out;
   ASSERT_EQ(run_command(cli() + " info --json " + dir + "/e.glb 2>&1", &out), 0) << out;
   EXPECT_NE(out.find("\"bitstream_bytes\""), std::string::npos) << out;
   ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.gltf 2>&1", &out), 0) << out;
