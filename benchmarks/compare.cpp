@@ -425,6 +425,10 @@ int main(int argc, char** argv) {
   const std::string ours_path = work + "/ours.glb";
   save(ours.model, ours_path);
   out["primitives_replaced"] = replaced.size();
+  size_t quality_fallback = 0;  // textured primitives the quality floor left with explicit UVs
+  for (const auto& p : ours.report.primitives)
+    if (p.handling.find("the warped atlas reached") != std::string::npos) ++quality_fallback;
+  out["primitives_quality_fallback"] = quality_fallback;
   out["bitstream_bytes"] = bitstream;
   out["patches"] = patches;
   out["max_distortion"] = maxd;

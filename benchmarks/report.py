@@ -41,7 +41,7 @@ COLUMNS = [  # (csv key, markdown header)
     ("draco12_decode_s", "Draco-12 decode ms"),
     ("decode_ratio", "decode / Draco-12"),
 ]
-EXTRA_CSV = ["uv_draco10_cli", "uv_draco14_cli", "primitives_replaced", "unmatched_faces", "psnr_samples", "psnr_faces_skipped", "decode_runs",
+EXTRA_CSV = ["uv_draco10_cli", "uv_draco14_cli", "primitives_replaced", "primitives_quality_fallback", "unmatched_faces", "psnr_samples", "psnr_faces_skipped", "decode_runs",
              "file_bytes_ours_gz", "file_bytes_meshopt_gz", "file"]
 
 

@@ -123,6 +123,7 @@ struct GroupAtlas {
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
   SurfaceError error;                           // colour slots: warped atlas against the source
+  bool capped = false;                          // the atlas was shrunk to fit --max-atlas-size
 };
 
 std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
@@ -176,6 +177,9 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
   ar.fill = packed.report.fill;
   ar.overlapping_texels = packed.report.overlap_texels;
   ar.density_factor = density_factor;
+  // The page hit --max-atlas-size and the scale shrank: more density cannot help.
+  out.capped = packed.report.shrink_retries > 0;
+  if (out.capped && reference > 0) ar.density_factor = density_factor * packed.report.texel_scale / scale;
 
   // Bitstreams, and the UVs exactly as the decoder will rebuild them.
   for (size_t k = 0; k < group.members.size(); ++k) {
@@ -374,13 +378,13 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     for (double factor : factors) {
       std::string err = build_group_atlas(model, plan, group, options, factor, built);
       if (!err.empty()) return err;
-      if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr) break;
+      if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr || built.capped) break;
     }
     const double psnr = built.error.psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
       char why[160];
-      std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density, below --min-psnr %.1f",
-                    psnr, built.report.density_factor, min_psnr);
+      std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f",
+                    psnr, built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
       for (size_t m : group.members) {
         auto& pr = report.primitives[plan.prims[m].report_index];
         std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
