@@ -1,7 +1,7 @@
 #include "codec/embedding_mesh.h"
 
 #include <cstring>
-#include <unordered_map>
+#include <vector>
 
 namespace gltfwarp {
 
@@ -30,13 +30,30 @@ TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint3
   TriMesh mesh;
   const size_t n = positions.count();
   point_to_vertex.assign(n, 0);
-  std::unordered_map<Key, uint32_t, KeyHash> seen;
-  seen.reserve(n);
+  // Open addressing over the position bits (linear probing, load <= 1/2):
+  // the same vertices in the same order as a map, without a node per point.
+  size_t cap = 16;
+  while (cap < 2 * n) cap <<= 1;
+  std::vector<uint32_t> slot(cap, UINT32_MAX);
+  mesh.positions.reserve(3 * n);
+  const KeyHash hash;
   for (size_t p = 0; p < n; ++p) {
     const float x = positions.get(p, 0), y = positions.get(p, 1), z = positions.get(p, 2);
-    auto [it, inserted] = seen.emplace(Key{bits(x), bits(y), bits(z)}, mesh.vertex_count());
-    if (inserted) mesh.positions.insert(mesh.positions.end(), {x, y, z});
-    point_to_vertex[p] = it->second;
+    const Key k{bits(x), bits(y), bits(z)};
+    for (size_t i = hash(k) & (cap - 1);; i = (i + 1) & (cap - 1)) {
+      const uint32_t v = slot[i];
+      if (v == UINT32_MAX) {
+        slot[i] = mesh.vertex_count();
+        mesh.positions.insert(mesh.positions.end(), {x, y, z});
+        point_to_vertex[p] = slot[i];
+        break;
+      }
+      const float* q = &mesh.positions[3 * size_t{v}];
+      if (Key{bits(q[0]), bits(q[1]), bits(q[2])} == k) {
+        point_to_vertex[p] = v;
+        break;
+      }
+    }
   }
   mesh.indices.resize(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i)
