@@ -52,6 +52,7 @@
 #include "codec/draco_geometry.h"
 #include "codec/encoder.h"
 #include "codec/image_io.h"
+#include "codec/warp.h"
 #include "format/extension.h"
 #include "format/gltf_io.h"
 #include "format/gltf_materials.h"
@@ -102,6 +103,7 @@ struct Texture {
   int w = 0, h = 0;
   std::vector<float> rgb;  // 0..255, 3 per texel
   int wrap_s = 10497, wrap_t = 10497;
+  bool srgb = false;  // rgb holds linear light (x255), filtered there as GPUs filter sRGB textures
 };
 
 int wrap_index(int i, int n, int mode) {
@@ -124,16 +126,18 @@ void sample(const Texture& t, double u, double v, float out[3]) {
     const float a = t.rgb[(size_t(y0) * t.w + x0) * 3 + c], b = t.rgb[(size_t(y0) * t.w + x1) * 3 + c];
     const float d = t.rgb[(size_t(y1) * t.w + x0) * 3 + c], e = t.rgb[(size_t(y1) * t.w + x1) * 3 + c];
     out[c] = float((1 - ay) * ((1 - ax) * a + ax * b) + ay * ((1 - ax) * d + ax * e));
+    if (t.srgb) out[c] = 255.0f * linear_to_srgb(std::clamp(out[c] / 255.0f, 0.0f, 1.0f));
   }
 }
 
 struct TextureCache {
   const tinygltf::Model* model;
-  std::map<int, Texture> by_texture;
-  const Texture* get(int texture) {
-    auto it = by_texture.find(texture);
+  std::map<std::pair<int, bool>, Texture> by_texture;
+  const Texture* get(int texture, bool srgb) {
+    auto it = by_texture.find({texture, srgb});
     if (it != by_texture.end()) return it->second.w ? &it->second : nullptr;
-    Texture& t = by_texture[texture];
+    Texture& t = by_texture[{texture, srgb}];
+    t.srgb = srgb;
     const int img = texture_image(*model, texture);
     if (img < 0) return nullptr;
     const tinygltf::Image& image = model->images[img];
@@ -153,7 +157,8 @@ struct TextureCache {
     t.rgb.resize(size_t(t.w) * t.h * 3);
     for (size_t i = 0; i < size_t(t.w) * t.h; ++i)
       for (int c = 0; c < 3; ++c)
-        t.rgb[3 * i + c] = 255.0f * px[i * spec.nchannels + (spec.nchannels >= 3 ? c : 0)];
+        t.rgb[3 * i + c] = 255.0f * (srgb ? srgb_to_linear(px[i * spec.nchannels + (spec.nchannels >= 3 ? c : 0)])
+                                          : px[i * spec.nchannels + (spec.nchannels >= 3 ? c : 0)]);
     const int s = model->textures[texture].sampler;
     if (s >= 0) {
       t.wrap_s = model->samplers[s].wrapS;
@@ -214,7 +219,8 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
       if (s.normal_map || s.tex_coord != 0) continue;
       for (const auto& d : ds) {
         if (d.name() != s.name()) continue;
-        const Texture *a = sc.get(s.texture), *b = dc.get(d.texture);
+        const bool srgb = s.color_space == ColorSpace::srgb;
+        const Texture *a = sc.get(s.texture, srgb), *b = dc.get(d.texture, srgb);
         if (a && b) {
           slots.push_back({a, b});
           xforms_s.push_back(s.transform);

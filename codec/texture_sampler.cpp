@@ -11,14 +11,15 @@
 namespace gltfwarp {
 namespace {
 
-// Folds a coordinate into [0, 1] as a sampler wrap mode does.
-double fold(double x, OIIO::ImageBuf::WrapMode w) {
-  if (w == OIIO::ImageBuf::WrapClamp) return std::clamp(x, 0.0, 1.0);
+// A texel index wrapped as a GPU sampler wraps it (per axis, per texel, so
+// bilinear at a REPEAT edge blends the last texel with the first).
+int wrap_index(long i, int n, OIIO::ImageBuf::WrapMode w) {
+  if (w == OIIO::ImageBuf::WrapClamp) return int(std::clamp<long>(i, 0, n - 1));
   if (w == OIIO::ImageBuf::WrapMirror) {
-    const double m = x - 2.0 * std::floor(x / 2.0);
-    return m <= 1.0 ? m : 2.0 - m;
+    const long p = 2L * n, m = ((i % p) + p) % p;
+    return int(m < n ? m : p - 1 - m);
   }
-  return x - std::floor(x);
+  return int(((i % n) + n) % n);
 }
 
 OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
@@ -32,13 +33,24 @@ OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
 void TextureSampler::sample(double u, double v, float* out) const {
   const auto& t = transform;
   const double tu = t[0] * u + t[1] * v + t[2], tv = t[3] * u + t[4] * v + t[5];
-  // OIIO's interppixel takes one wrap mode: fold per axis first when they differ.
-  const bool same = wrap_s == wrap_t;
-  const double fu = same ? tu : fold(tu, wrap_s), fv = same ? tv : fold(tv, wrap_t);
-  pixels.interppixel_NDC(static_cast<float>(fu), static_cast<float>(fv), out,
-                         same ? wrap_s : OIIO::ImageBuf::WrapClamp);
+  const int w = pixels.spec().width, h = pixels.spec().height, nch = pixels.nchannels();
+  const double x = tu * w - 0.5, y = tv * h - 0.5;
+  if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e9 || std::abs(y) > 1e9) {
+    for (int c = 0; c < nch; ++c) out[c] = 0;
+    return;
+  }
+  const double fx = std::floor(x), fy = std::floor(y), ax = x - fx, ay = y - fy;
+  const int x0 = wrap_index(long(fx), w, wrap_s), x1 = wrap_index(long(fx) + 1, w, wrap_s);
+  const int y0 = wrap_index(long(fy), h, wrap_t), y1 = wrap_index(long(fy) + 1, h, wrap_t);
+  const float* px = static_cast<const float*>(pixels.localpixels());
+  const float* a = px + (size_t(y0) * w + x0) * nch;
+  const float* b = px + (size_t(y0) * w + x1) * nch;
+  const float* d = px + (size_t(y1) * w + x0) * nch;
+  const float* e = px + (size_t(y1) * w + x1) * nch;
+  for (int c = 0; c < nch; ++c)
+    out[c] = float((1 - ay) * ((1 - ax) * a[c] + ax * b[c]) + ay * ((1 - ax) * d[c] + ax * e[c]));
   if (srgb)
-    for (int c = 0; c < std::min(3, pixels.nchannels()); ++c) out[c] = linear_to_srgb(std::clamp(out[c], 0.0f, 1.0f));
+    for (int c = 0; c < std::min(3, nch); ++c) out[c] = linear_to_srgb(std::clamp(out[c], 0.0f, 1.0f));
 }
 
 void load_texture_sampler(const OIIO::ImageBuf& raw, bool srgb, int gl_wrap_s, int gl_wrap_t,

@@ -1,6 +1,7 @@
 // A glTF texture as a viewer samples it when magnifying: bilinear, in linear
 // light for sRGB slots (as GPUs filter sRGB textures), with the sampler's
-// wrap mode per axis and the slot's KHR_texture_transform. Used to measure
+// wrap mode applied per axis to texel indices as a GPU does, and the slot's
+// KHR_texture_transform. Used to measure
 // quality on the surface (surface_compare.h, warp_quality.h).
 #pragma once
 
@@ -16,7 +17,7 @@
 namespace gltfwarp {
 
 struct TextureSampler {
-  OIIO::ImageBuf pixels;  // float; colour channels in linear light for sRGB slots
+  OIIO::ImageBuf pixels;  // float, local, origin 0; colour channels in linear light for sRGB slots
   OIIO::ImageBuf::WrapMode wrap_s = OIIO::ImageBuf::WrapPeriodic, wrap_t = OIIO::ImageBuf::WrapPeriodic;
   bool srgb = false;
   std::array<double, 6> transform{1, 0, 0, 0, 1, 0};  // uv' = (t0 u + t1 v + t2, t3 u + t4 v + t5)
