@@ -124,11 +124,24 @@ struct GroupAtlas {
   std::vector<WarpJob> jobs;
   SurfaceError error;                           // colour slots: warped atlas against the source
   bool capped = false;                          // the atlas was shrunk to fit --max-atlas-size
+  uint32_t patch_count = 0;                     // over the members, numbered member by member
+  std::vector<SurfaceError> patch_error;        // per patch, colour slots
+  std::vector<double> patch_texels;             // per patch: its triangles' area in atlas texels
 };
 
 std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                              const EncodeOptions& options, double density_factor, GroupAtlas& out) {
+                              const EncodeOptions& options, double density_factor,
+                              const std::vector<std::vector<int32_t>>& step_bias, GroupAtlas& out) {
   out = GroupAtlas{};
+  // Patches numbered across the group's members, for per-patch errors.
+  std::vector<std::vector<uint32_t>> group_patch(group.members.size());
+  for (size_t k = 0, offset = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    for (uint32_t pf : ip.patch_of_face) group_patch[k].push_back(uint32_t(offset + pf));
+    offset += ip.patch_count;
+    out.patch_count = uint32_t(offset);
+  }
+  out.patch_error.assign(out.patch_count, SurfaceError{});
   // Texel density: keep the source's detail (largest image each primitive samples).
   std::vector<DensityPrimitive> dens;
   for (size_t m : group.members) {
@@ -160,6 +173,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     p.patch_count = ip.patch_count;
     p.corner_xy = ip.corner_xy;
     p.face_density = density[k];
+    if (k < step_bias.size()) p.scale_step_bias = step_bias[k];
     pp.push_back(p);
   }
   PackOptions po;
@@ -194,6 +208,17 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     out.maps.push_back(map);
     out.bitstreams.push_back(std::move(bytes));
   }
+  out.patch_texels.assign(out.patch_count, 0.0);
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    const UvMap& map = out.maps[k];
+    for (size_t f = 0; f < ip.patch_of_face.size(); ++f) {
+      const double* c = &ip.corner_xy[6 * f];
+      const double s = double(map.texel_scale) * patch_scale(map.placements[ip.patch_of_face[f]].scale_step);
+      out.patch_texels[group_patch[k][f]] +=
+          0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * s * s;
+    }
+  }
 
   for (int mat : group.materials) {
     for (const auto& slot : texture_slots(model, mat)) {
@@ -221,7 +246,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       std::vector<SurfaceUvs> uvs;
       std::vector<TangentFrames> frames;
       frames.reserve(group.members.size());
-      for (size_t m : group.members) {
+      for (const size_t& m : group.members) {
         const auto& ip = plan.prims[m];
         // Only the primitives whose material samples this image paint it.
         const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
@@ -240,7 +265,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
           w.new_tangents = frames.back().new_tangents;
         }
         wp.push_back(w);
-        uvs.push_back({ip.source_uv, ip.corner_uv});
+        const size_t k = size_t(&m - group.members.data());
+        uvs.push_back({ip.source_uv, ip.corner_uv, group_patch[k]});
       }
       OIIO::ImageBuf atlas;
       WarpReport wr;
@@ -254,7 +280,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, before);
         load_texture_sampler(atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
                              {1, 0, 0, 0, 1, 0}, after);
-        out.error.add(surface_error(before, after, uvs));
+        out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
       }
       WarpJob job;
       job.key = key;
@@ -356,6 +382,64 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
   return {};
 }
 
+// Smooth content keeps its quality with fewer texels. Measures every patch
+// at two scale steps less (half its texels), then gives the smaller scale to
+// the patches that buy the most texels for the least added error, while the
+// group's error stays under the floor (plus half a dB of margin). Keeps the
+// result only if the final measurement holds the floor.
+std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                                   const EncodeOptions& options, double factor, double min_psnr, GroupAtlas& built) {
+  constexpr int32_t kStep = -2;
+  std::vector<std::vector<int32_t>> all_down(group.members.size());
+  for (size_t k = 0; k < group.members.size(); ++k)
+    all_down[k].assign(plan.prims[group.members[k]].patch_count, kStep);
+  GroupAtlas down;
+  std::string err = build_group_atlas(model, plan, group, options, factor, all_down, down);
+  if (!err.empty()) return err;
+  if (down.capped || down.patch_error.size() != built.patch_error.size()) return {};
+  const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, (min_psnr + 0.5) / 10.0);
+  double squared = built.error.squared;
+  struct Choice {
+    uint32_t patch;
+    double added, saved;
+  };
+  std::vector<Choice> choices;
+  for (uint32_t p = 0; p < built.patch_count; ++p) {
+    const double saved = built.patch_texels[p] - down.patch_texels[p];
+    if (!(saved > 0) || built.patch_error[p].values == 0) continue;
+    choices.push_back({p, down.patch_error[p].squared - built.patch_error[p].squared, saved});
+  }
+  std::sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
+    return a.added * b.saved < b.added * a.saved;  // least added error per texel saved first
+  });
+  std::vector<uint8_t> lower(built.patch_count, 0);
+  size_t taken = 0;
+  for (const Choice& c : choices) {
+    if (squared + c.added > budget) break;
+    squared += c.added;
+    lower[c.patch] = 1;
+    ++taken;
+  }
+  if (taken == 0) return {};
+  std::vector<std::vector<int32_t>> bias(group.members.size());
+  for (size_t k = 0, offset = 0; k < group.members.size(); ++k) {
+    const uint32_t n = plan.prims[group.members[k]].patch_count;
+    for (uint32_t p = 0; p < n; ++p) bias[k].push_back(lower[offset + p] ? kStep : 0);
+    offset += n;
+  }
+  GroupAtlas chosen;
+  err = build_group_atlas(model, plan, group, options, factor, bias, chosen);
+  if (!err.empty()) return err;
+  if (chosen.error.values > 0 && chosen.error.psnr() >= min_psnr && !chosen.capped) {
+    built = std::move(chosen);
+  } else {
+    // Back to the first measurement's atlas (the UVs in the plan follow the last build).
+    std::vector<std::vector<int32_t>> none;
+    err = build_group_atlas(model, plan, group, options, factor, none, built);
+  }
+  return err;
+}
+
 }  // namespace
 
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
@@ -375,10 +459,17 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     if (group.members.empty()) continue;
     if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
     GroupAtlas built;
+    double factor_used = factors[0];
     for (double factor : factors) {
-      std::string err = build_group_atlas(model, plan, group, options, factor, built);
+      std::string err = build_group_atlas(model, plan, group, options, factor, {}, built);
       if (!err.empty()) return err;
+      factor_used = factor;
       if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr || built.capped) break;
+    }
+    if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
+        built.error.psnr() >= min_psnr + 0.5) {
+      std::string err = spend_quality_headroom(model, plan, group, options, factor_used, min_psnr, built);
+      if (!err.empty()) return err;
     }
     const double psnr = built.error.psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {

@@ -37,6 +37,9 @@ struct EncodeOptions {
   double min_psnr = -1;
   std::vector<double> density_boosts = {1.5, 2.0};
   bool quality_fallback = true;
+  // With the floor on: give patches whose content is smooth half their
+  // texels (two scale steps) while the group keeps the floor plus 0.5 dB.
+  bool adaptive_density = true;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 

@@ -584,6 +584,11 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       patches[pi].scale_step = std::clamp(step, options.min_scale_step, options.max_scale_step);
     }
   }
+  for (PatchInfo& p : patches) {
+    const auto& bias = prims[p.prim].scale_step_bias;
+    if (p.patch < bias.size())
+      p.scale_step = std::clamp(p.scale_step + bias[p.patch], options.min_scale_step, options.max_scale_step);
+  }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));
   std::vector<double> q;

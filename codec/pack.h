@@ -35,6 +35,10 @@ struct PackPrimitive {
   // its source density to the whole set's (RMS, area-weighted): the budget
   // texel_scale sets is redistributed to where the source had its detail.
   std::span<const double> face_density;
+  // Optional, one per patch: scale steps added to each patch's step (after
+  // the density rule), e.g. negative where the content is smooth enough to
+  // keep its quality with fewer texels.
+  std::span<const int32_t> scale_step_bias;
 };
 
 enum class SizeRounding : uint8_t {

@@ -14,7 +14,8 @@ double SurfaceError::psnr() const {
 }
 
 SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
-                           std::span<const SurfaceUvs> prims, uint64_t max_points) {
+                           std::span<const SurfaceUvs> prims, uint64_t max_points,
+                           std::vector<SurfaceError>* per_group) {
   SurfaceError e;
   if (!source.ok || !atlas.ok) return e;
   const auto& spec = source.pixels.spec();
@@ -47,15 +48,22 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
       if (face_index % stride != 0) continue;
       const float* s = &su[6 * f];
       const float* d = &du[6 * f];
+      SurfaceError face;
       for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
         source.sample(w0 * s[0] + w1 * s[2] + w2 * s[4], w0 * s[1] + w1 * s[3] + w2 * s[5], a.data());
         atlas.sample(w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5], b.data());
         for (int c = 0; c < channels; ++c) {
           const double diff = 255.0 * (double(a[c]) - b[c]);
-          e.squared += diff * diff;
+          face.squared += diff * diff;
         }
-        e.values += uint64_t(channels);
+        face.values += uint64_t(channels);
       });
+      e.add(face);
+      const auto& groups = prims[p].group_of_face;
+      if (per_group && f < groups.size()) {
+        if (groups[f] >= per_group->size()) per_group->resize(size_t(groups[f]) + 1);
+        (*per_group)[groups[f]].add(face);
+      }
     }
   }
   return e;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <span>
+#include <vector>
 
 #include "codec/texture_sampler.h"
 
@@ -25,12 +26,16 @@ struct SurfaceError {
 struct SurfaceUvs {
   std::span<const float> source_uv;  // as the source slot samples (its transform is the sampler's)
   std::span<const float> atlas_uv;
+  // Optional, one per face: the error of each face also goes to
+  // per_group[group_of_face[f]] (e.g. per patch), when per_group is given.
+  std::span<const uint32_t> group_of_face;
 };
 
 // Compares `atlas` at atlas_uv with `source` at source_uv over every face of
 // every primitive. At most about max_points points: larger meshes are
 // measured on an evenly spread subset of faces.
 SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
-                           std::span<const SurfaceUvs> prims, uint64_t max_points = 4'000'000);
+                           std::span<const SurfaceUvs> prims, uint64_t max_points = 4'000'000,
+                           std::vector<SurfaceError>* per_group = nullptr);
 
 }  // namespace gltfwarp

@@ -28,18 +28,18 @@ TEST(WarpQuality, IdenticalIs99AndAShiftIsSeen) {
   load_texture_sampler(checker(64, 1), true, 33071, 33071, id, a);
   load_texture_sampler(checker(64, 1), true, 33071, 33071, id, b);
   const std::vector<float> uv = square(0, 0), shifted = square(0.5f / 64, 0);
-  const SurfaceUvs same[] = {{uv, uv}};
+  const SurfaceUvs same[] = {{uv, uv, {}}};
   const SurfaceError e = surface_error(a, b, same);
   EXPECT_GT(e.values, 3u * 64 * 64 / 2) << "about one point per texel";
   EXPECT_EQ(e.psnr(), 99.0);
-  const SurfaceUvs off[] = {{uv, shifted}};
+  const SurfaceUvs off[] = {{uv, shifted, {}}};
   EXPECT_LT(surface_error(a, b, off).psnr(), 20.0) << "half a texel on a 1-texel checker";
   // The source transform is applied: a source scaled 2x about 0 samples like
   // the atlas at double the UVs.
   TextureSampler scaled;
   load_texture_sampler(checker(64, 1), true, 33071, 33071, {0.5, 0, 0, 0, 0.5, 0}, scaled);
   const std::vector<float> doubled = square(0, 0), half = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0.5f};
-  const SurfaceUvs tx[] = {{doubled, half}};
+  const SurfaceUvs tx[] = {{doubled, half, {}}};
   EXPECT_EQ(surface_error(scaled, b, tx).psnr(), 99.0);
 }
 
@@ -51,12 +51,31 @@ TEST(WarpQuality, PointBudgetSpreadsOverFaces) {
     const std::vector<float> s = square(float(i % 7) / 7, 0);
     uv.insert(uv.end(), s.begin(), s.end());
   }
-  const SurfaceUvs prims[] = {{uv, uv}};
+  const SurfaceUvs prims[] = {{uv, uv, {}}};
   const SurfaceError e = surface_error(a, a, prims, 100'000);
   EXPECT_LE(e.values, 3u * 200'000);
   EXPECT_GT(e.values, 3u * 20'000);
   EXPECT_EQ(e.psnr(), 99.0);
   EXPECT_EQ(surface_error(a, TextureSampler{}, prims).values, 0u) << "an unloaded sampler measures nothing";
+}
+
+// Per-group errors (per patch in the encoder) add up to the total, and a
+// shift on one face only shows in that face's group.
+TEST(WarpQuality, PerGroupErrorsAddUp) {
+  TextureSampler a;
+  load_texture_sampler(checker(64, 1), true, 33071, 33071, {1, 0, 0, 0, 1, 0}, a);
+  std::vector<float> uv = square(0, 0), moved = square(0, 0);
+  for (int i = 6; i < 12; i += 2) moved[size_t(i)] += 0.5f / 64;  // second face shifted half a texel
+  const std::vector<uint32_t> groups = {3, 1};
+  const SurfaceUvs prims[] = {{uv, moved, groups}};
+  std::vector<SurfaceError> per;
+  const SurfaceError total = surface_error(a, a, prims, 4'000'000, &per);
+  ASSERT_EQ(per.size(), 4u);
+  EXPECT_EQ(per[3].squared, 0.0);
+  EXPECT_GT(per[1].squared, 0.0);
+  EXPECT_EQ(per[0].values + per[2].values, 0u);
+  EXPECT_EQ(per[1].values + per[3].values, total.values);
+  EXPECT_DOUBLE_EQ(per[1].squared, total.squared);
 }
 
 }  // namespace
