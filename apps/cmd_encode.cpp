@@ -16,7 +16,7 @@ Runner add_encode(CLI::App& app) {
     std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
         texel_budget = "count";
     EncodeOptions opt;
-    bool quiet = false, explicit_uvs = false, always_implicit = false;
+    bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
@@ -49,6 +49,9 @@ Runner add_encode(CLI::App& app) {
                  "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
                  "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
+  app.add_flag("--fixed-density", a->fixed_density,
+               "Keep every patch at its measured density (default: patches whose content is smooth get half their "
+               "texels while the atlas keeps --min-psnr plus 0.5 dB)");
   app.add_flag("--always-implicit", a->always_implicit,
                "Never fall back to explicit UVs for quality (still raise the density to meet --min-psnr)");
   app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
@@ -64,6 +67,7 @@ Runner add_encode(CLI::App& app) {
     opt.greedy_partition = a->partition == "greedy";
     opt.implicit_uvs = !a->explicit_uvs;
     opt.quality_fallback = !a->always_implicit;
+    opt.adaptive_density = !a->fixed_density;
     opt.image_format = a->image_format;
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile
