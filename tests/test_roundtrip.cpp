@@ -118,6 +118,13 @@ void check_round_trip(const std::string& name, const std::string& src, const std
   }
 }
 
+// The .gltf or .glb of the corpus model `name`; empty when absent.
+std::string corpus_path(const std::string& name) {
+  for (const auto& m : corpus_models())
+    if (m.name == name) return m.path;
+  return {};
+}
+
 }  // namespace
 
 class CorpusRoundTrip : public ::testing::TestWithParam<std::string> {};
@@ -180,9 +187,7 @@ TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
 // sub-texel offsets); --always-implicit replaces it anyway.
 TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : corpus_models())
-    if (m.name == "VertexColorTest") path = m.path;
+  const std::string path = corpus_path("VertexColorTest");
   ASSERT_FALSE(path.empty());
   const std::string dir = scratch_dir("quality-floor");
   std::string out;
@@ -207,9 +212,7 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
 // the decoded tangents around shows the measure sees a wrong frame.
 TEST(CorpusRoundTrip, NormalMappedModelIsLitAlike) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : corpus_models())
-    if (m.name == "TwoSidedPlane") path = m.path;
+  const std::string path = corpus_path("TwoSidedPlane");
   ASSERT_FALSE(path.empty());
   const std::string dir = scratch_dir("lit");
   std::string out;
@@ -251,9 +254,7 @@ TEST(CorpusRoundTrip, NormalMappedModelIsLitAlike) {
 // smaller with adaptive density than without, and still measures >= 38 dB.
 TEST(CorpusRoundTrip, AdaptiveDensitySpendsHeadroomOnSmoothPatches) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : corpus_models())
-    if (m.name == "Duck") path = m.path;
+  const std::string path = corpus_path("Duck");
   ASSERT_FALSE(path.empty());
   size_t bytes[2] = {0, 0};
   for (const bool adaptive : {false, true}) {
