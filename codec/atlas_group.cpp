@@ -382,62 +382,75 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
   return {};
 }
 
-// Smooth content keeps its quality with fewer texels. Measures every patch
-// at two scale steps less (half its texels), then gives the smaller scale to
-// the patches that buy the most texels for the least added error, while the
-// group's error stays under the floor (plus half a dB of margin). Keeps the
-// result only if the final measurement holds the floor.
+// Smooth content keeps its quality with fewer texels. Each round measures
+// every patch at two scale steps less than now (half its texels), then
+// gives the smaller scale to the patches that buy the most texels for the
+// least added error, while the group's error stays under the floor (plus
+// half a dB of margin). A round's result is kept only if its own
+// measurement holds the floor and its images are smaller; otherwise the
+// previous atlas is rebuilt and the search stops.
 std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                                    const EncodeOptions& options, double factor, double min_psnr, GroupAtlas& built) {
   constexpr int32_t kStep = -2;
-  std::vector<std::vector<int32_t>> all_down(group.members.size());
-  for (size_t k = 0; k < group.members.size(); ++k)
-    all_down[k].assign(plan.prims[group.members[k]].patch_count, kStep);
-  GroupAtlas down;
-  std::string err = build_group_atlas(model, plan, group, options, factor, all_down, down);
-  if (!err.empty()) return err;
-  if (down.capped || down.patch_error.size() != built.patch_error.size()) return {};
-  const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, (min_psnr + 0.5) / 10.0);
-  double squared = built.error.squared;
-  struct Choice {
-    uint32_t patch;
-    double added, saved;
-  };
-  std::vector<Choice> choices;
-  for (uint32_t p = 0; p < built.patch_count; ++p) {
-    const double saved = built.patch_texels[p] - down.patch_texels[p];
-    if (!(saved > 0) || built.patch_error[p].values == 0) continue;
-    choices.push_back({p, down.patch_error[p].squared - built.patch_error[p].squared, saved});
-  }
-  std::sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
-    return a.added * b.saved < b.added * a.saved;  // least added error per texel saved first
-  });
-  std::vector<uint8_t> lower(built.patch_count, 0);
-  size_t taken = 0;
-  for (const Choice& c : choices) {
-    if (squared + c.added > budget) break;
-    squared += c.added;
-    lower[c.patch] = 1;
-    ++taken;
-  }
-  if (taken == 0) return {};
   std::vector<std::vector<int32_t>> bias(group.members.size());
-  for (size_t k = 0, offset = 0; k < group.members.size(); ++k) {
-    const uint32_t n = plan.prims[group.members[k]].patch_count;
-    for (uint32_t p = 0; p < n; ++p) bias[k].push_back(lower[offset + p] ? kStep : 0);
-    offset += n;
+  for (size_t k = 0; k < group.members.size(); ++k) bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
+  const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, (min_psnr + 0.5) / 10.0);
+  bool plan_follows_built = true;  // the plan's UVs are those of the last build
+  for (int round = 0; round < options.adaptive_rounds; ++round) {
+    std::vector<std::vector<int32_t>> all_down = bias;
+    for (auto& b : all_down)
+      for (int32_t& step : b) step += kStep;
+    GroupAtlas down;
+    std::string err = build_group_atlas(model, plan, group, options, factor, all_down, down);
+    if (!err.empty()) return err;
+    plan_follows_built = false;
+    if (down.capped || down.patch_error.size() != built.patch_error.size()) break;
+    double squared = built.error.squared;
+    struct Choice {
+      uint32_t patch;
+      double added, saved;
+    };
+    std::vector<Choice> choices;
+    for (uint32_t p = 0; p < built.patch_count; ++p) {
+      const double saved = built.patch_texels[p] - down.patch_texels[p];
+      if (!(saved > 0) || built.patch_error[p].values == 0) continue;
+      choices.push_back({p, down.patch_error[p].squared - built.patch_error[p].squared, saved});
+    }
+    std::sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
+      return a.added * b.saved < b.added * a.saved;  // least added error per texel saved first
+    });
+    std::vector<uint8_t> lower(built.patch_count, 0);
+    size_t taken = 0;
+    for (const Choice& c : choices) {
+      if (squared + c.added > budget) break;
+      squared += c.added;
+      lower[c.patch] = 1;
+      ++taken;
+    }
+    if (taken == 0) break;
+    std::vector<std::vector<int32_t>> next = bias;
+    for (size_t k = 0, offset = 0; k < next.size(); ++k) {
+      for (size_t p = 0; p < next[k].size(); ++p)
+        if (lower[offset + p]) next[k][p] += kStep;
+      offset += next[k].size();
+    }
+    GroupAtlas chosen;
+    err = build_group_atlas(model, plan, group, options, factor, next, chosen);
+    if (!err.empty()) return err;
+    // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
+    // checker compresses worse): keep a round only if the bytes fell too.
+    if (chosen.error.values > 0 && chosen.error.psnr() >= min_psnr && !chosen.capped &&
+        chosen.report.atlas_image_bytes < built.report.atlas_image_bytes) {
+      built = std::move(chosen);
+      bias = std::move(next);
+      plan_follows_built = true;
+      continue;
+    }
+    // Back to the last kept atlas (the UVs in the plan follow the last build).
+    return build_group_atlas(model, plan, group, options, factor, bias, built);
   }
-  GroupAtlas chosen;
-  err = build_group_atlas(model, plan, group, options, factor, bias, chosen);
-  if (!err.empty()) return err;
-  if (chosen.error.values > 0 && chosen.error.psnr() >= min_psnr && !chosen.capped) {
-    built = std::move(chosen);
-  } else {
-    // Back to the first measurement's atlas (the UVs in the plan follow the last build).
-    std::vector<std::vector<int32_t>> none;
-    err = build_group_atlas(model, plan, group, options, factor, none, built);
-  }
-  return err;
+  // The last build may have been a measurement: the plan's UVs must be built's.
+  return plan_follows_built ? std::string() : build_group_atlas(model, plan, group, options, factor, bias, built);
 }
 
 }  // namespace

@@ -40,6 +40,7 @@ struct EncodeOptions {
   // With the floor on: give patches whose content is smooth half their
   // texels (two scale steps) while the group keeps the floor plus 0.5 dB.
   bool adaptive_density = true;
+  int adaptive_rounds = 2;        // halvings a patch may get (each round: two scale steps)
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 
