@@ -52,7 +52,7 @@
 #include "codec/draco_geometry.h"
 #include "codec/encoder.h"
 #include "codec/image_io.h"
-#include "codec/warp.h"
+#include "codec/texture_sampler.h"
 #include "format/extension.h"
 #include "format/gltf_io.h"
 #include "format/gltf_materials.h"
@@ -99,45 +99,22 @@ std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs, 
 
 // ---------------------------------------------------------------- sampling
 
-struct Texture {
-  int w = 0, h = 0;
-  std::vector<float> rgb;  // 0..255, 3 per texel
-  int wrap_s = 10497, wrap_t = 10497;
-  bool srgb = false;  // rgb holds linear light (x255), filtered there as GPUs filter sRGB textures
-};
-
-int wrap_index(int i, int n, int mode) {
-  if (mode == 33071) return std::clamp(i, 0, n - 1);
-  if (mode == 33648) {
-    const int p = 2 * n;
-    int m = ((i % p) + p) % p;
-    return m < n ? m : p - 1 - m;
-  }
-  return ((i % n) + n) % n;
-}
-
-void sample(const Texture& t, double u, double v, float out[3]) {
-  const double x = u * t.w - 0.5, y = v * t.h - 0.5;
-  const double fx = std::floor(x), fy = std::floor(y);
-  const double ax = x - fx, ay = y - fy;
-  const int x0 = wrap_index(int(fx), t.w, t.wrap_s), x1 = wrap_index(int(fx) + 1, t.w, t.wrap_s);
-  const int y0 = wrap_index(int(fy), t.h, t.wrap_t), y1 = wrap_index(int(fy) + 1, t.h, t.wrap_t);
-  for (int c = 0; c < 3; ++c) {
-    const float a = t.rgb[(size_t(y0) * t.w + x0) * 3 + c], b = t.rgb[(size_t(y0) * t.w + x1) * 3 + c];
-    const float d = t.rgb[(size_t(y1) * t.w + x0) * 3 + c], e = t.rgb[(size_t(y1) * t.w + x1) * 3 + c];
-    out[c] = float((1 - ay) * ((1 - ax) * a + ax * b) + ay * ((1 - ax) * d + ax * e));
-    if (t.srgb) out[c] = 255.0f * linear_to_srgb(std::clamp(out[c] / 255.0f, 0.0f, 1.0f));
-  }
+// A slot's texture as a viewer samples it (codec/texture_sampler.h), as RGB
+// on the 0..255 scale; grey images give their one channel three times.
+void sample(const TextureSampler& t, double u, double v, float out[3]) {
+  float px[4] = {0, 0, 0, 0};
+  t.sample(u, v, px);
+  const bool grey = t.channels() < 3;
+  for (int c = 0; c < 3; ++c) out[c] = 255.0f * px[grey ? 0 : c];
 }
 
 struct TextureCache {
   const tinygltf::Model* model;
-  std::map<std::pair<int, bool>, Texture> by_texture;
-  const Texture* get(int texture, bool srgb) {
+  std::map<std::pair<int, bool>, TextureSampler> by_texture;
+  const TextureSampler* get(int texture, bool srgb) {
     auto it = by_texture.find({texture, srgb});
-    if (it != by_texture.end()) return it->second.w ? &it->second : nullptr;
-    Texture& t = by_texture[{texture, srgb}];
-    t.srgb = srgb;
+    if (it != by_texture.end()) return it->second.ok ? &it->second : nullptr;
+    TextureSampler& t = by_texture[{texture, srgb}];
     const int img = texture_image(*model, texture);
     if (img < 0) return nullptr;
     const tinygltf::Image& image = model->images[img];
@@ -147,24 +124,14 @@ struct TextureCache {
       const auto& buf = model->buffers[bv.buffer].data;
       bytes.assign(buf.begin() + bv.byteOffset, buf.begin() + bv.byteOffset + bv.byteLength);
     }
-    DecodedImage d;
-    if (!decode_image(bytes, d).empty()) return nullptr;
-    const auto spec = d.pixels.spec();
-    std::vector<float> px(size_t(spec.width) * spec.height * spec.nchannels);
-    d.pixels.get_pixels(d.pixels.roi(), OIIO::TypeDesc::FLOAT, px.data());
-    t.w = spec.width;
-    t.h = spec.height;
-    t.rgb.resize(size_t(t.w) * t.h * 3);
-    for (size_t i = 0; i < size_t(t.w) * t.h; ++i)
-      for (int c = 0; c < 3; ++c)
-        t.rgb[3 * i + c] = 255.0f * (srgb ? srgb_to_linear(px[i * spec.nchannels + (spec.nchannels >= 3 ? c : 0)])
-                                          : px[i * spec.nchannels + (spec.nchannels >= 3 ? c : 0)]);
-    const int s = model->textures[texture].sampler;
-    if (s >= 0) {
-      t.wrap_s = model->samplers[s].wrapS;
-      t.wrap_t = model->samplers[s].wrapT;
+    int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
+    if (const int s = model->textures[texture].sampler; s >= 0) {
+      wrap_s = model->samplers[s].wrapS;
+      wrap_t = model->samplers[s].wrapT;
     }
-    return &t;
+    // The slot's transform is applied by the caller.
+    if (!load_texture_sampler(bytes, srgb, wrap_s, wrap_t, {1, 0, 0, 0, 1, 0}, t).empty()) return nullptr;
+    return t.ok ? &t : nullptr;
   }
 };
 
@@ -212,7 +179,7 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
     const double tol = 1.01 * extent / double((1u << position_bits) - 1);
     const CornerMatch cm = match_corners(sposf, sg.triangles, dposf, dg.triangles, tol);
     // Slot pairs, by slot name; normal maps excepted (see the file comment).
-    std::vector<std::pair<const Texture*, const Texture*>> slots;
+    std::vector<std::pair<const TextureSampler*, const TextureSampler*>> slots;
     std::vector<std::array<double, 6>> xforms_s, xforms_d;
     const auto ss = texture_slots(source, sp.material), ds = texture_slots(decoded, dp.material);
     for (const auto& s : ss) {
@@ -220,7 +187,7 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
       for (const auto& d : ds) {
         if (d.name() != s.name()) continue;
         const bool srgb = s.color_space == ColorSpace::srgb;
-        const Texture *a = sc.get(s.texture, srgb), *b = dc.get(d.texture, srgb);
+        const TextureSampler *a = sc.get(s.texture, srgb), *b = dc.get(d.texture, srgb);
         if (a && b) {
           slots.push_back({a, b});
           xforms_s.push_back(s.transform);
@@ -229,9 +196,11 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
       }
     }
     if (slots.empty()) continue;
-    const Texture* ref = slots[0].first;
+    const TextureSampler* ref = slots[0].first;
+    const int ref_w = ref->pixels.spec().width, ref_h = ref->pixels.spec().height;
     const char* debug = std::getenv("GLTFWARP_COMPARE_DEBUG");
-    std::vector<float> debug_img(debug ? size_t(ref->w) * ref->h * 3 : 0);
+    std::vector<float> debug_img(debug ? size_t(ref_w) * ref_h * 3 : 0);
+    auto repeat = [](int i, int n) { return ((i % n) + n) % n; };
     const size_t nf = dg.triangles.size() / 3;
     for (size_t f = 0; f < nf; ++f) {
       double su[3][2], du[3][2];
@@ -253,7 +222,7 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
       }
       const double area = 0.5 * std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
                                          (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
-                          ref->w * ref->h;
+                          ref_w * ref_h;
       const int n = std::clamp(int(std::ceil(std::sqrt(area))), 2, 64);
       auto visit = [&](double b1, double b2) {
         const double b0 = 1 - b1 - b2;
@@ -270,9 +239,9 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
           for (int c = 0; c < 3; ++c) r.sse += double(ca[c] - cb[c]) * (ca[c] - cb[c]);
           r.samples++;
           if (debug && s == 0) {
-            const int x = wrap_index(int(std::floor(u0 * ref->w)), ref->w, 10497);
-            const int y = wrap_index(int(std::floor(v0 * ref->h)), ref->h, 10497);
-            for (int c = 0; c < 3; ++c) debug_img[(size_t(y) * ref->w + x) * 3 + c] = cb[c] / 255.0f;
+            const int x = repeat(int(std::floor(u0 * ref_w)), ref_w);
+            const int y = repeat(int(std::floor(v0 * ref_h)), ref_h);
+            for (int c = 0; c < 3; ++c) debug_img[(size_t(y) * ref_w + x) * 3 + c] = cb[c] / 255.0f;
           }
         }
       };
@@ -283,7 +252,7 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
         }
     }
     if (debug) {  // the decoded colours painted at the source UVs: compare by eye with the source texture
-      OIIO::ImageBuf img(OIIO::ImageSpec(ref->w, ref->h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
+      OIIO::ImageBuf img(OIIO::ImageSpec(ref_w, ref_h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
       static int call = 0;
       img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" + std::to_string(pi) + ".png", OIIO::TypeDesc::UINT8);
     }
