@@ -129,8 +129,12 @@ struct GroupAtlas {
   std::vector<double> patch_texels;             // per patch: its triangles' area in atlas texels
 };
 
+// Decoded source images by image index: a group's atlas is built up to five
+// times (density retries, adaptive rounds), its sources decoded once.
+using SourceImages = std::map<int, OIIO::ImageBuf>;
+
 std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                              const EncodeOptions& options, double density_factor,
+                              const EncodeOptions& options, SourceImages& sources, double density_factor,
                               const std::vector<std::vector<int32_t>>& step_bias, GroupAtlas& out) {
   out = GroupAtlas{};
   // Patches numbered across the group's members, for per-patch errors.
@@ -227,9 +231,13 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       const int sampler = model.textures[slot.texture].sampler;
       const JobKey key{image, sampler, slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
       if (std::any_of(out.jobs.begin(), out.jobs.end(), [&](const WarpJob& j) { return j.key == key; })) continue;
-      OIIO::ImageBuf source;
       std::string err;
-      if (!decode_image(model.images[image].image, source, err)) return "image " + std::to_string(image) + ": " + err;
+      auto [found, fresh] = sources.try_emplace(image);
+      if (fresh && !decode_image(model.images[image].image, found->second, err)) {
+        sources.erase(found);
+        return "image " + std::to_string(image) + ": " + err;
+      }
+      const OIIO::ImageBuf& source = found->second;
       WarpOptions wo;
       wo.encoding = slot.normal_map ? SlotEncoding::normal
                                     : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
@@ -390,7 +398,7 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
 // measurement holds the floor and its images are smaller; otherwise the
 // previous atlas is rebuilt and the search stops.
 std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                                   const EncodeOptions& options, double factor, double min_psnr, GroupAtlas& built) {
+                                   const EncodeOptions& options, SourceImages& sources, double factor, double min_psnr, GroupAtlas& built) {
   constexpr int32_t kStep = -2;
   std::vector<std::vector<int32_t>> bias(group.members.size());
   for (size_t k = 0; k < group.members.size(); ++k) bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
@@ -401,7 +409,7 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
     for (auto& b : all_down)
       for (int32_t& step : b) step += kStep;
     GroupAtlas down;
-    std::string err = build_group_atlas(model, plan, group, options, factor, all_down, down);
+    std::string err = build_group_atlas(model, plan, group, options, sources, factor, all_down, down);
     if (!err.empty()) return err;
     plan_follows_built = false;
     if (down.capped || down.patch_error.size() != built.patch_error.size()) break;
@@ -435,7 +443,7 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
       offset += next[k].size();
     }
     GroupAtlas chosen;
-    err = build_group_atlas(model, plan, group, options, factor, next, chosen);
+    err = build_group_atlas(model, plan, group, options, sources, factor, next, chosen);
     if (!err.empty()) return err;
     // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
     // checker compresses worse): keep a round only if the bytes fell too.
@@ -447,10 +455,11 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
       continue;
     }
     // Back to the last kept atlas (the UVs in the plan follow the last build).
-    return build_group_atlas(model, plan, group, options, factor, bias, built);
+    return build_group_atlas(model, plan, group, options, sources, factor, bias, built);
   }
   // The last build may have been a measurement: the plan's UVs must be built's.
-  return plan_follows_built ? std::string() : build_group_atlas(model, plan, group, options, factor, bias, built);
+  return plan_follows_built ? std::string()
+                            : build_group_atlas(model, plan, group, options, sources, factor, bias, built);
 }
 
 }  // namespace
@@ -472,16 +481,17 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     if (group.members.empty()) continue;
     if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
     GroupAtlas built;
+    SourceImages sources;
     double factor_used = factors[0];
     for (double factor : factors) {
-      std::string err = build_group_atlas(model, plan, group, options, factor, {}, built);
+      std::string err = build_group_atlas(model, plan, group, options, sources, factor, {}, built);
       if (!err.empty()) return err;
       factor_used = factor;
       if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr || built.capped) break;
     }
     if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
         built.error.psnr() >= min_psnr + 0.5) {
-      std::string err = spend_quality_headroom(model, plan, group, options, factor_used, min_psnr, built);
+      std::string err = spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
       if (!err.empty()) return err;
     }
     const double psnr = built.error.psnr();
