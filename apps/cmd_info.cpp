@@ -105,7 +105,7 @@ Runner add_info(CLI::App& app) {
           st = decode_uvs(mesh, bytes, uv, &map);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
           std::vector<double> xy;
-          layout_patches(mesh, map.patch_of_face, map.patch_count, xy);
+          layout_patches(mesh, map.patch_of_face, map.patch_count, xy, map.seeds);
           const EmbedReport er = measure_embedding(mesh, map.patch_of_face, map.patch_count, xy, si.tau);
           p["max_distortion"] = er.max_distortion;
           p["mean_distortion"] = er.mean_distortion;

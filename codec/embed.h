@@ -73,8 +73,11 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
 
 struct Embedding {
   LayoutStatus status = LayoutStatus::ok;
-  std::vector<uint32_t> patch_of_face;  // patches numbered by lowest face; seed = lowest face
+  std::vector<uint32_t> patch_of_face;  // patches numbered by lowest face
   uint32_t patch_count = 0;
+  // The face each patch grows from (format 1.1); empty when every patch
+  // grows from its lowest face (greedy mode, and compact when that holds).
+  std::vector<uint32_t> seeds;
   std::vector<double> corner_xy;        // from layout_patches (what the decoder computes)
   std::vector<double> encoder_xy;       // what the encoder's growth computed (test: == corner_xy)
   EmbedReport report;

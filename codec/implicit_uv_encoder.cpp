@@ -268,6 +268,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   prim.attributes["TEXCOORD_0"] = static_cast<int>(model.accessors.size() - 1);
   ip.patch_of_face = std::move(er.patch_of_face);
   ip.patch_count = er.patch_count;
+  ip.seeds = std::move(er.seeds);
   ip.corner_xy = std::move(er.corner_xy);
 
   pr.handling = options.raw_geometry ? "implicit-uv (raw geometry)" : "implicit-uv";

@@ -25,6 +25,7 @@ struct ImplicitPrimitive {
   std::vector<float> source_tangents;  // the source's TANGENT, 4 per corner of `tri` (empty if none)
   std::vector<uint32_t> patch_of_face;
   uint32_t patch_count = 0;
+  std::vector<uint32_t> seeds;       // empty, or the replay's seed face of each patch
   std::vector<double> corner_xy;     // layout_patches output
   std::vector<float> corner_uv;      // final UVs (decode_uvs output)
   bool had_tangents = false;

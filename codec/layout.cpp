@@ -24,6 +24,7 @@ const char* to_string(LayoutStatus s) {
     case LayoutStatus::patch_order: return "patches not numbered by lowest face";
     case LayoutStatus::unreachable_face: return "a face of a patch is never reached";
     case LayoutStatus::bad_mesh: return "index out of range";
+    case LayoutStatus::bad_seed: return "seed outside its patch";
   }
   return "unknown";
 }
@@ -150,7 +151,7 @@ inline uint32_t run_of(PatchIncidence& pi, uint32_t v, uint32_t p, uint32_t& beg
 // ascending face order, once p is fully placed.
 template <typename Emit>
 LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face, uint32_t patch_count,
-                    Emit&& emit) {
+                    std::span<const uint32_t> seeds, Emit&& emit) {
   if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
   const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
   if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
@@ -162,6 +163,11 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
     else if (p > next) return LayoutStatus::patch_order;
   }
   if (next != patch_count) return LayoutStatus::bad_patch_id;
+  if (!seeds.empty()) {
+    if (seeds.size() != patch_count) return LayoutStatus::bad_seed;
+    for (uint32_t p = 0; p < patch_count; ++p)
+      if (seeds[p] >= nf || patch_of_face[seeds[p]] != p) return LayoutStatus::bad_seed;
+  }
   const uint32_t* idx = mesh.indices.data();
 
   // Faces of each patch, ascending (counting sort by patch id).
@@ -202,7 +208,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
 
   for (uint32_t p = 0; p < patch_count; ++p) {
     const uint32_t mark = p + 1;
-    const uint32_t seed = pfaces[poff[p]];
+    const uint32_t seed = seeds.empty() ? pfaces[poff[p]] : seeds[p];
     Vec2 sp[3];
     place_seed(mesh, seed, sp);
     fresh.clear();
@@ -270,10 +276,11 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
 }  // namespace
 
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                            uint32_t patch_count, std::vector<double>& corner_xy) {
+                            uint32_t patch_count, std::vector<double>& corner_xy,
+                            std::span<const uint32_t> seeds) {
   corner_xy.clear();
   corner_xy.resize(size_t{mesh.face_count()} * 6, 0.0);
-  return replay(mesh, patch_of_face, patch_count, [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
+  return replay(mesh, patch_of_face, patch_count, seeds, [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
     double* out = corner_xy.data() + 6 * size_t{f};
     for (int k = 0; k < 3; ++k) {
       out[2 * k] = xy[k].x;
@@ -283,8 +290,9 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
 }
 
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                            uint32_t patch_count, FaceSink sink, void* context) {
-  return replay(mesh, patch_of_face, patch_count,
+                            uint32_t patch_count, FaceSink sink, void* context,
+                            std::span<const uint32_t> seeds) {
+  return replay(mesh, patch_of_face, patch_count, seeds,
                 [&](uint32_t p, uint32_t f, const Vec2 xy[3]) { sink(context, p, f, xy); });
 }
 

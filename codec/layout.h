@@ -10,8 +10,10 @@
 //    entry per face, every entry is < patch_count and every patch has a face
 //    (else bad_patch_id); scanning faces in ascending order, the patch ids
 //    appear for the first time in the order 0, 1, 2, ... (else patch_order).
-//  * Patches are numbered 0..P-1 in order of their lowest face index; the
-//    seed of a patch is its lowest face. Patches are laid out independently.
+//  * Patches are numbered 0..P-1 in order of their lowest face index. The
+//    seed of a patch is its lowest face, or seeds[p] when a seed list is
+//    given (format 1.1: one face per patch, which must belong to that patch,
+//    else bad_seed). Patches are laid out independently.
 //  * Lengths: L(u, w) = sqrt(dx*dx + dy*dy + dz*dz) with d = pos[u] - pos[w]
 //    (each float coordinate converted to double first), summed in that order.
 //  * The seed face (v0, v1, v2) is placed rigidly: v0 at the origin; v1 (if
@@ -68,13 +70,16 @@ enum class LayoutStatus : uint8_t {
   patch_order,       // patches are not numbered in order of their lowest face
   unreachable_face,  // a face of a patch is never reached by the replay
   bad_mesh,          // an index is out of range
+  bad_seed,          // a seed list of the wrong size, or a seed outside its patch
 };
 const char* to_string(LayoutStatus s);
 
 // corner_xy receives 2 doubles per corner (6 per face): the patch-local
-// position of that corner's vertex in model units.
+// position of that corner's vertex in model units. seeds: empty (every patch
+// grows from its lowest face) or one face per patch.
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                            uint32_t patch_count, std::vector<double>& corner_xy);
+                            uint32_t patch_count, std::vector<double>& corner_xy,
+                            std::span<const uint32_t> seeds = {});
 
 // The same replay, handing over each face's three corner positions instead of
 // storing them: sink(context, patch, face, xy) is called for the faces of
@@ -82,7 +87,8 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
 // is fully placed. On an error some faces may already have been handed over.
 using FaceSink = void (*)(void* context, uint32_t patch, uint32_t face, const Vec2 xy[3]);
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                            uint32_t patch_count, FaceSink sink, void* context);
+                            uint32_t patch_count, FaceSink sink, void* context,
+                            std::span<const uint32_t> seeds = {});
 
 // Building blocks of the replay, exposed so that the encoder's growth
 // (codec/embed.cpp) computes exactly the same floats for the same inputs.

@@ -705,6 +705,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       m.page_count = best_pages;
       m.patch_count = prims[i].patch_count;
       m.patch_of_face.assign(prims[i].patch_of_face.begin(), prims[i].patch_of_face.end());
+      m.seeds.assign(prims[i].seeds.begin(), prims[i].seeds.end());
       m.placements.assign(m.patch_count, PatchPlacement{});
     }
     for (size_t pi = 0; pi < patches.size(); ++pi) {

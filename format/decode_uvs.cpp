@@ -14,6 +14,7 @@ UvStatus from_layout_status(LayoutStatus s) {
     case LayoutStatus::patch_order: return UvStatus::layout_patch_order;
     case LayoutStatus::unreachable_face: return UvStatus::layout_unreachable_face;
     case LayoutStatus::bad_mesh: return UvStatus::bad_mesh;
+    case LayoutStatus::bad_seed: return UvStatus::layout_bad_seed;
   }
   return UvStatus::bad_mesh;
 }
@@ -92,7 +93,8 @@ UvStatus decode_uvs(const TriMesh& mesh, std::span<const uint8_t> bytes, std::ve
   corner_uv.resize(size_t{mesh.face_count()} * 6);
   UvSink sink{transforms.data(), static_cast<double>(map.atlas_width),
               static_cast<double>(map.atlas_height), corner_uv.data()};
-  if (const LayoutStatus ls = layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink);
+  if (const LayoutStatus ls = layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink,
+                                                map.seeds);
       ls != LayoutStatus::ok)
     return from_layout_status(ls);
   return UvStatus::ok;

@@ -138,6 +138,7 @@ const char* to_string(UvStatus s) {
     case UvStatus::layout_bad_patch_id: return "layout: bad patch id";
     case UvStatus::layout_patch_order: return "layout: patches not ordered by lowest face";
     case UvStatus::layout_unreachable_face: return "layout: face unreachable from its patch seed";
+    case UvStatus::layout_bad_seed: return "layout: seed outside its patch";
   }
   return "unknown status";
 }

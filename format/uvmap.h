@@ -38,6 +38,9 @@ struct UvMap {
   uint32_t patch_count = 0;      // 1..face_count (0 iff the mesh has no face)
   std::vector<uint32_t> patch_of_face;     // one per face, patches ordered by lowest face
   std::vector<PatchPlacement> placements;  // one per patch
+  // Format 1.1: the face each patch's replay grows from, one per patch (a
+  // face of that patch). Empty: every patch grows from its lowest face (1.0).
+  std::vector<uint32_t> seeds;
 
   friend bool operator==(const UvMap&, const UvMap&) = default;
 };
@@ -78,6 +81,7 @@ enum class UvStatus : uint8_t {
   layout_bad_patch_id,  // layout_patches reported bad_patch_id
   layout_patch_order,   // layout_patches reported patch_order
   layout_unreachable_face,  // layout_patches: a face of a patch is never reached by the replay
+  layout_bad_seed,      // layout_patches: a seed outside its patch (the writer checks this too)
 };
 const char* to_string(UvStatus s);
 

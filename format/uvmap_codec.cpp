@@ -228,7 +228,8 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   if (info.version_major != kUvVersionMajor || info.version_minor > kUvVersionMinor)
     return UvStatus::unsupported_version;
   GW_TRY(r.u8(info.flags));
-  if (info.flags & ~(kUvFlagRotations | kUvFlagScales)) return UvStatus::reserved_bits;
+  const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0);
+  if (info.flags & ~known) return UvStatus::reserved_bits;
   GW_TRY(r.varint(info.face_count));
   GW_TRY(r.f32(info.tau));
   GW_TRY(r.f32(info.texel_scale));
@@ -290,6 +291,11 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh) {
     if (p == created) ++created;
   }
   if (created != map.patch_count) return UvStatus::bad_argument;
+  if (!map.seeds.empty()) {
+    if (map.seeds.size() != map.patch_count) return UvStatus::bad_argument;
+    for (uint32_t p = 0; p < map.patch_count; ++p)
+      if (map.seeds[p] >= nf || map.patch_of_face[map.seeds[p]] != p) return UvStatus::bad_argument;
+  }
   for (const PatchPlacement& pl : map.placements) {
     if (pl.rotation >= kRotationSteps || pl.page >= map.page_count || !scale_step_ok(pl.scale_step))
       return UvStatus::bad_argument;
@@ -364,10 +370,23 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
     if (pl.rotation != 0) flags |= kUvFlagRotations;
     if (pl.scale_step != 0) flags |= kUvFlagScales;
   }
+  if (!map.seeds.empty()) flags |= kUvFlagSeeds;
+  // Seeds are coded as their rank among their patch's faces in ascending order.
+  std::vector<uint32_t> patch_faces, seed_rank;
+  if (flags & kUvFlagSeeds) {
+    patch_faces.assign(map.patch_count, 0);
+    seed_rank.assign(map.patch_count, 0);
+    for (uint32_t f = 0; f < nf; ++f) {
+      const uint32_t p = map.patch_of_face[f];
+      if (f < map.seeds[p]) ++seed_rank[p];
+      ++patch_faces[p];
+    }
+  }
   rc::Encoder ce;
   {
     ScaleModel sm;
-    for (const PatchPlacement& pl : map.placements) {
+    for (uint32_t p = 0; p < map.patch_count; ++p) {
+      const PatchPlacement& pl = map.placements[p];
       if (flags & kUvFlagRotations) ce.uniform(pl.rotation, kRotationSteps);
       ce.uniform32(static_cast<uint32_t>(pl.x), uint64_t{map.atlas_width} + 1);
       ce.uniform32(static_cast<uint32_t>(pl.y), uint64_t{map.atlas_height} + 1);
@@ -379,6 +398,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
           ce.exp_golomb(sm.magnitude, static_cast<uint32_t>(std::abs(pl.scale_step)) - 1);
         }
       }
+      if (flags & kUvFlagSeeds) ce.uniform32(seed_rank[p], patch_faces[p]);
     }
   }
   const std::vector<uint8_t> place = ce.finish();
@@ -387,7 +407,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   out.reserve(40 + part.size() + place.size());
   for (const uint8_t b : kUvMagic) out.push_back(b);
   out.push_back(kUvVersionMajor);
-  out.push_back(kUvVersionMinor);
+  out.push_back((flags & kUvFlagSeeds) ? 1 : 0);  // the oldest minor that reads this stream
   out.push_back(flags);
   put_varint(out, nf);
   put_f32(out, map.tau);
@@ -487,10 +507,24 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
   }
 
   out.placements.assign(out.patch_count, PatchPlacement{});
+  out.seeds.clear();
+  // Seeds: the rank-th face of each patch in ascending order; patch_faces
+  // (faces per patch, then a running start) and face_list are sized by nf.
+  std::vector<uint32_t> patch_start, face_list;
+  if (info.flags & kUvFlagSeeds) {
+    patch_start.assign(size_t{out.patch_count} + 1, 0);
+    for (uint32_t f = 0; f < nf; ++f) ++patch_start[out.patch_of_face[f] + 1];
+    for (uint32_t p = 0; p < out.patch_count; ++p) patch_start[p + 1] += patch_start[p];
+    face_list.resize(nf);
+    std::vector<uint32_t> fill(patch_start.begin(), patch_start.end() - 1);
+    for (uint32_t f = 0; f < nf; ++f) face_list[fill[out.patch_of_face[f]]++] = f;
+    out.seeds.assign(out.patch_count, 0);
+  }
   {
     rc::Decoder cd(place);
     ScaleModel sm;
-    for (PatchPlacement& pl : out.placements) {
+    for (uint32_t p = 0; p < out.patch_count; ++p) {
+      PatchPlacement& pl = out.placements[p];
       if (info.flags & kUvFlagRotations) pl.rotation = cd.uniform(kRotationSteps);
       pl.x = static_cast<int32_t>(cd.uniform32(uint64_t{out.atlas_width} + 1));
       pl.y = static_cast<int32_t>(cd.uniform32(uint64_t{out.atlas_height} + 1));
@@ -502,6 +536,11 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
           if (mag >= static_cast<uint32_t>(kMaxScaleStep)) return cd.failed() ? rc_status(cd) : UvStatus::bad_value;
           pl.scale_step = negative ? -static_cast<int32_t>(mag + 1) : static_cast<int32_t>(mag + 1);
         }
+      }
+      if (info.flags & kUvFlagSeeds) {
+        // uniform32 never returns >= n (a corrupt symbol is clamped and flagged).
+        const uint32_t n = patch_start[p + 1] - patch_start[p];
+        out.seeds[p] = face_list[patch_start[p] + cd.uniform32(n)];
       }
       if (cd.failed()) return rc_status(cd);
     }

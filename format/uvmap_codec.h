@@ -25,10 +25,11 @@ namespace gltfwarp {
 
 constexpr uint8_t kUvMagic[4] = {'G', 'W', 'U', 'V'};
 constexpr uint8_t kUvVersionMajor = 1;
-constexpr uint8_t kUvVersionMinor = 0;
-// Header flag bits (all others are reserved and must be 0 in version 1.0).
+constexpr uint8_t kUvVersionMinor = 1;  // the newest minor this reader knows
+// Header flag bits (all others are reserved and must be 0).
 constexpr uint8_t kUvFlagRotations = 1u << 0;  // per-patch rotation codes are present
 constexpr uint8_t kUvFlagScales = 1u << 1;     // per-patch scale steps are present
+constexpr uint8_t kUvFlagSeeds = 1u << 2;      // per-patch seeds are present (minor >= 1)
 
 // Header fields and section sizes, read without the mesh (for `gltf-warp info`).
 struct UvStreamInfo {
@@ -47,7 +48,9 @@ struct UvStreamInfo {
 UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh);
 
 // Writes the bitstream. The flags are chosen from the content (rotations are
-// written only if some rotation is non-zero, scales only if some step is).
+// written only if some rotation is non-zero, scales only if some step is,
+// seeds only if map.seeds is not empty). A stream without seeds is written as
+// version 1.0, byte for byte what a 1.0 writer produced; with seeds, 1.1.
 UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>& out);
 // Same, throwing std::invalid_argument (with to_string of the status) on error.
 std::vector<uint8_t> write_uvmap(const UvMap& map, const TriMesh& mesh);

@@ -30,9 +30,11 @@ TEST(Bitstream, RoundTripRandomMaps) {
     const TriMesh mesh = (trial % 3 == 0) ? make_sphere(3 + rng() % 20, 2 + rng() % 15)
                                           : make_grid(1 + rng() % 30, 1 + rng() % 30);
     const uint32_t patches = 1 + rng() % std::max(1u, mesh.face_count() / static_cast<uint32_t>(1 + rng() % 20));
-    const UvMap map = random_uvmap(mesh, patches, rng, trial % 2 == 0, trial % 4 == 0, trial % 5 != 0);
+    UvMap map = random_uvmap(mesh, patches, rng, trial % 2 == 0, trial % 4 == 0, trial % 5 != 0);
+    if (trial % 3 == 1) add_random_seeds(map, rng);
     std::vector<uint8_t> bytes;
     ASSERT_EQ(write_uvmap(map, mesh, bytes), UvStatus::ok) << trial;
+    EXPECT_EQ(bytes[5], map.seeds.empty() ? 0 : 1) << "minor version: 1.0 unless seeds are stored";
     UvMap back;
     ASSERT_EQ(read_uvmap(bytes, mesh, back), UvStatus::ok) << trial;
     ASSERT_EQ(back, map) << trial;
@@ -82,7 +84,8 @@ TEST(Bitstream, EveryTruncationIsRejected) {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 20; ++trial) {
     const TriMesh mesh = make_grid(4 + rng() % 10, 4 + rng() % 10);
-    const UvMap map = random_uvmap(mesh, 2 + rng() % 8, rng, trial % 2 == 0, trial % 3 == 0, true);
+    UvMap map = random_uvmap(mesh, 2 + rng() % 8, rng, trial % 2 == 0, trial % 3 == 0, true);
+    if (trial % 4 < 2) add_random_seeds(map, rng);
     const auto bytes = write_uvmap(map, mesh);
     for (size_t len = 0; len < bytes.size(); ++len) {
       // A fresh allocation of exactly len bytes, so ASan flags any overread.
@@ -148,8 +151,8 @@ TEST(Bitstream, CorruptHeadersAreRejected) {
   EXPECT_EQ(fx.with(3, 'X'), UvStatus::bad_magic);
   EXPECT_EQ(fx.with(4, 2), UvStatus::unsupported_version);
   EXPECT_EQ(fx.with(4, 0), UvStatus::unsupported_version);
-  EXPECT_EQ(fx.with(5, 1), UvStatus::unsupported_version);
-  EXPECT_EQ(fx.with(6, 0x04), UvStatus::reserved_bits);
+  EXPECT_EQ(fx.with(5, 2), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(6, 0x04), UvStatus::reserved_bits);  // the seeds flag needs minor >= 1
   EXPECT_EQ(fx.with(6, 0x80), UvStatus::reserved_bits);
   EXPECT_EQ(fx.with(7, 49), UvStatus::face_count_mismatch);
   EXPECT_EQ(fx.with(11, 0x7f), UvStatus::bad_value);  // tau: float with exponent bits all set
@@ -240,6 +243,11 @@ TEST(Bitstream, WriterRejectsInvalidMaps) {
   bad.placements.pop_back();
   EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
   bad = good;
+  bad.seeds.assign(bad.patch_count, 0);  // face 0 is in patch 0 only
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad.seeds.assign(bad.patch_count + 1, 0);
+  EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
+  bad = good;
   bad.texel_scale = std::nanf("");
   EXPECT_EQ(write_uvmap(bad, mesh, bytes), UvStatus::bad_argument);
   EXPECT_THROW(write_uvmap(bad, mesh), std::invalid_argument);
@@ -295,7 +303,7 @@ TEST(Bitstream, ApplyPlacementsFormula) {
 }
 
 TEST(Bitstream, StatusStrings) {
-  for (int s = 0; s <= static_cast<int>(UvStatus::layout_unreachable_face); ++s)
+  for (int s = 0; s <= static_cast<int>(UvStatus::layout_bad_seed); ++s)
     EXPECT_STRNE(to_string(static_cast<UvStatus>(s)), "unknown status");
 }
 
@@ -317,6 +325,48 @@ TEST(Bitstream, DecodeUvsReportsLayoutErrors) {
   ASSERT_EQ(decode_uvs(mesh, write_uvmap(map, mesh), uv2, &back), UvStatus::ok);
   EXPECT_EQ(back, map);
   EXPECT_EQ(uv2.size(), 48u);
+}
+
+TEST(Bitstream, SeedsAreStoredAndReplayed) {
+  // Format 1.1: a 1.1 header with only the 1.0 flags reads as before; the
+  // seeds flag is honoured, a seed moves the replay's origin, and the flag
+  // bits above it stay reserved.
+  const TriMesh mesh = make_grid(6, 6);
+  std::mt19937 rng(7);
+  UvMap map = random_uvmap(mesh, 3, rng, false, false, false);
+  const auto plain = write_uvmap(map, mesh);
+  EXPECT_EQ(plain[5], 0);
+  auto as_11 = plain;
+  as_11[5] = 1;
+  UvMap back;
+  ASSERT_EQ(read_uvmap(as_11, mesh, back), UvStatus::ok);
+  EXPECT_TRUE(back.seeds.empty());
+  std::vector<float> uv_low, uv_seeded;
+  ASSERT_EQ(decode_uvs(mesh, plain, uv_low), UvStatus::ok);
+
+  add_random_seeds(map, rng);
+  map.seeds[0] = 0;
+  for (uint32_t f = 0; f < mesh.face_count(); ++f)  // patch 0's last face
+    if (map.patch_of_face[f] == 0) map.seeds[0] = f;
+  const auto seeded = write_uvmap(map, mesh);
+  EXPECT_EQ(seeded[5], 1);
+  EXPECT_EQ(seeded[6] & kUvFlagSeeds, kUvFlagSeeds);
+  ASSERT_EQ(decode_uvs(mesh, seeded, uv_seeded, &back), UvStatus::ok);
+  EXPECT_EQ(back.seeds, map.seeds);
+  EXPECT_NE(uv_low, uv_seeded);  // patch 0 grew from another face
+  auto reserved = seeded;
+  reserved[6] |= 0x08;
+  EXPECT_EQ(read_uvmap(reserved, mesh, back), UvStatus::reserved_bits);
+
+  // The replay itself checks seeds too (it is called without the reader).
+  std::vector<double> xy;
+  std::vector<uint32_t> seeds = map.seeds;
+  EXPECT_EQ(layout_patches(mesh, map.patch_of_face, map.patch_count, xy, seeds), LayoutStatus::ok);
+  seeds.pop_back();
+  EXPECT_EQ(layout_patches(mesh, map.patch_of_face, map.patch_count, xy, seeds), LayoutStatus::bad_seed);
+  seeds = map.seeds;
+  seeds[0] = mesh.face_count();
+  EXPECT_EQ(layout_patches(mesh, map.patch_of_face, map.patch_count, xy, seeds), LayoutStatus::bad_seed);
 }
 
 TEST(Bitstream, InfoReadsHeaderWithoutMesh) {

@@ -138,6 +138,14 @@ inline UvMap random_uvmap(const TriMesh& m, uint32_t target_patches, std::mt1993
   return map;
 }
 
+// Format 1.1: a random face of each patch as its seed.
+inline void add_random_seeds(UvMap& map, std::mt19937& rng) {
+  std::vector<std::vector<uint32_t>> faces(map.patch_count);
+  for (uint32_t f = 0; f < map.patch_of_face.size(); ++f) faces[map.patch_of_face[f]].push_back(f);
+  map.seeds.resize(map.patch_count);
+  for (uint32_t p = 0; p < map.patch_count; ++p) map.seeds[p] = faces[p][rng() % faces[p].size()];
+}
+
 inline uint64_t fnv1a(const void* data, size_t n) {
   uint64_t h = 0xcbf29ce484222325ull;
   const auto* p = static_cast<const uint8_t*>(data);
