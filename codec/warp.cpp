@@ -1,6 +1,7 @@
 // Texture warping into the atlas (sources in warp.h).
 #include "codec/warp.h"
 
+#include <OpenImageIO/filter.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/texture.h>
 
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 #include <mutex>
 #include <random>
 #include <sstream>
@@ -60,6 +62,73 @@ struct Tri {
   double s[3], t[3];    // source UV of the corners (transform applied)
   float dsdx, dtdx, dsdy, dtdy;
   uint32_t prim, face;
+  bool magnifies;       // one atlas texel spans at most one source texel
+};
+
+// Wraps a texel index into [0, n) by a glTF sampler wrap mode.
+inline int wrap_index(int i, int n, WrapMode w) {
+  switch (w) {
+    case WrapMode::clamp_to_edge: return std::clamp(i, 0, n - 1);
+    case WrapMode::mirrored_repeat: {
+      const int period = 2 * n;
+      int k = i % period;
+      if (k < 0) k += period;
+      return k < n ? k : period - 1 - k;
+    }
+    default: {
+      const int k = i % n;
+      return k < 0 ? k + n : k;
+    }
+  }
+}
+
+// Catmull-Rom interpolation of a linear float image (texel centres at
+// half-integers, as the texture system and glTF viewers place them), with
+// the kernel from OIIO's filter library.
+class CubicSampler {
+ public:
+  CubicSampler(const std::vector<float>& px, int w, int h, int nch, WrapMode ws, WrapMode wt)
+      : px_(px), w_(w), h_(h), nch_(nch), ws_(ws), wt_(wt),
+        kernel_(OIIO::Filter1D::create("catmull-rom", 4.0f), &OIIO::Filter1D::destroy) {}
+
+  void sample(float s, float t, float* out) const {
+    const double x = double(s) * w_ - 0.5, y = double(t) * h_ - 0.5;
+    const double fx = std::floor(x), fy = std::floor(y);
+    const int ix = int(fx), iy = int(fy);
+    // OIIO's filters are not normalised: divide by the taps' sums.
+    float wx[4], wy[4], sx = 0, sy = 0;
+    for (int k = 0; k < 4; ++k) {
+      wx[k] = (*kernel_)(float(x - (fx + k - 1)));
+      wy[k] = (*kernel_)(float(y - (fy + k - 1)));
+      sx += wx[k], sy += wy[k];
+    }
+    for (int k = 0; k < 4; ++k) wx[k] /= sx, wy[k] /= sy;
+    int cx[4];
+    for (int k = 0; k < 4; ++k) cx[k] = wrap_index(ix + k - 1, w_, ws_);
+    float acc[4] = {0, 0, 0, 0};
+    float lo[4] = {1e30f, 1e30f, 1e30f, 1e30f}, hi[4] = {-1e30f, -1e30f, -1e30f, -1e30f};
+    for (int j = 0; j < 4; ++j) {
+      const float* row = &px_[size_t(wrap_index(iy + j - 1, h_, wt_)) * w_ * nch_];
+      for (int i = 0; i < 4; ++i) {
+        const float wgt = wx[i] * wy[j];
+        const float* p = row + size_t(cx[i]) * nch_;
+        const bool inner = (i == 1 || i == 2) && (j == 1 || j == 2);
+        for (int c = 0; c < nch_; ++c) {
+          acc[c] += wgt * p[c];
+          if (inner) lo[c] = std::min(lo[c], p[c]), hi[c] = std::max(hi[c], p[c]);
+        }
+      }
+    }
+    // No overshoot beyond the four nearest texels: the cubic's ringing at
+    // hard edges would add colours (and bytes) that the source never had.
+    for (int c = 0; c < nch_; ++c) out[c] = std::clamp(acc[c], lo[c], hi[c]);
+  }
+
+ private:
+  const std::vector<float>& px_;
+  int w_, h_, nch_;
+  WrapMode ws_, wt_;
+  std::unique_ptr<OIIO::Filter1D, void (*)(OIIO::Filter1D*)> kernel_;
 };
 
 // Barycentric coordinates of the point of the triangle closest to p
@@ -202,6 +271,10 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   const int sw = sspec.width, sh = sspec.height;
   const bool deep = sspec.format.size() > 1;  // uint16, half, float sources
   TempFile temp{unique_temp_path(options.temp_dir)};
+  // The linear source in memory for cubic lookups (up to 4096^2 texels).
+  const bool keep_linear = options.cubic_magnification && size_t(sw) * sh <= (size_t(1) << 24);
+  std::vector<float> linear;
+  if (keep_linear) linear.resize(size_t(sw) * sh * nch);
   {
     ImageBuf stage(ImageSpec(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF));
     std::vector<float> rows;
@@ -226,6 +299,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       }
       const ROI droi(0, sw, y0 - sspec.y, y1 - sspec.y, 0, 1, 0, nch);
       stage.set_pixels(droi, TypeDesc::FLOAT, rows.data());
+      if (keep_linear) std::copy(rows.begin(), rows.end(), linear.begin() + size_t(y0 - sspec.y) * sw * nch);
     }
     ImageSpec config(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF);
     config.tile_width = 64;
@@ -276,6 +350,14 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       tr.dsdy = float(ds1 * i01 + ds2 * i11);
       tr.dtdx = float(dt1 * i00 + dt2 * i10);
       tr.dtdy = float(dt1 * i01 + dt2 * i11);
+      {
+        // Largest stretch of the atlas -> source texel map (its top singular value).
+        const double a = double(tr.dsdx) * sw, b = double(tr.dsdy) * sw;
+        const double c = double(tr.dtdx) * sh, d = double(tr.dtdy) * sh;
+        const double s1 = a * a + b * b + c * c + d * d, s2 = a * d - b * c;
+        const double sigma2 = 0.5 * (s1 + std::sqrt(std::max(0.0, s1 * s1 - 4 * s2 * s2)));
+        tr.magnifies = sigma2 <= 1.0;
+      }
       tr.prim = pi;
       tr.face = f;
       const double y0 = std::min({tr.y[0], tr.y[1], tr.y[2]}), y1 = std::max({tr.y[0], tr.y[1], tr.y[2]});
@@ -312,6 +394,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   auto worker = [&]() {
     OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
     OIIO::TextureSystem::TextureHandle* th = ts->get_texture_handle(tex_name, pt);
+    const CubicSampler cubic(linear, sw, sh, nch, options.wrap_s, options.wrap_t);
     OIIO::TextureOpt opt;
     opt.swrap = to_oiio(options.wrap_s);
     opt.twrap = to_oiio(options.wrap_t);
@@ -414,7 +497,10 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           const float s = float(bc[0] * tr.s[0] + bc[1] * tr.s[1] + bc[2] * tr.s[2]);
           const float t = float(bc[0] * tr.t[0] + bc[1] * tr.t[1] + bc[2] * tr.t[2]);
           value[0] = value[1] = value[2] = 0, value[3] = 1;
-          ts->texture(th, pt, opt, s, t, tr.dsdx, tr.dtdx, tr.dsdy, tr.dtdy, nch, value);
+          if (keep_linear && tr.magnifies)
+            cubic.sample(s, t, value);
+          else
+            ts->texture(th, pt, opt, s, t, tr.dsdx, tr.dtdx, tr.dsdy, tr.dtdy, nch, value);
           ++my_look;
           if (normal_map) {
             const WarpPrimitive& p = prims[tr.prim];

@@ -56,6 +56,12 @@ struct WarpOptions {
   uint32_t gutter = 4;        // fill texels up to this many texels from a patch by dilation
   float anisotropy = 16;      // max anisotropy of the filtered lookup
   bool bicubic = false;       // bicubic (OIIO: a smoothing B-spline) when magnifying; false: bilinear, what viewers show
+  // Where the atlas does not minify the source (footprint <= 1 source texel),
+  // interpolate the source with the Catmull-Rom cubic (OIIO's filter)
+  // instead of the texture system's bilinear lookup: an interpolating kernel
+  // that keeps edges sharp, so the viewer's own bilinear pass is the only
+  // blur. Minified lookups stay with the texture system's MIP filtering.
+  bool cubic_magnification = true;
   int threads = 0;            // worker threads; 0 = hardware concurrency
   int band_rows = 32;         // rows per work item (memory is O(width * band_rows))
   std::string temp_dir;       // where the filtered source is staged; empty = system temp
