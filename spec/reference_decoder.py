@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.0,
-written from spec/README.md alone (not from the C++). It decodes the golden
-stream of tests/golden/uvmap_v1_0.h on the golden mesh and checks the FNV-1a
-hash of the decoded UVs, which shows that the spec is complete enough for a
-second implementation to reproduce the UVs bit for bit.
+"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.1
+(and so 1.0), written from spec/README.md alone (not from the C++). It decodes
+the golden streams of tests/golden/uvmap_v1_0.h (1.0) and uvmap_v1_1.h (1.1,
+per-patch seeds) on the golden mesh and checks the FNV-1a hash of the decoded
+UVs, which shows that the spec is complete enough for a second implementation
+to reproduce the UVs bit for bit.
 
 Usage: python3 spec/reference_decoder.py   (exit status 0 on success)
 Python floats are IEEE binary64 with correctly rounded + - * / and math.sqrt,
@@ -142,10 +143,12 @@ def decode(stream, positions, indices):
         raise Invalid("truncated" if stream == b"GWUV"[:len(stream)] else "bad_magic")
     if r.take(4) != b"GWUV":
         raise Invalid("bad_magic")
-    major, minor, flags = r.take(1)[0], r.take(1)[0], r.take(1)[0]
-    if major != 1 or minor > 0:
+    major, minor = r.take(1)[0], r.take(1)[0]
+    if major != 1 or minor > 1:
         raise Invalid("unsupported_version")
-    if flags & ~3:
+    flags = r.take(1)[0]
+    ROTATIONS, SCALES, SEEDS = 0x01, 0x02, 0x04
+    if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0)):
         raise Invalid("reserved_bits")
     face_count = r.varint()
     tau = struct.unpack("<f", r.take(4))[0]
@@ -248,30 +251,35 @@ def decode(stream, positions, indices):
         raise Invalid("bad_count")
     d.finish()
 
-    # ---- 6.4 placements
+    # ---- 6.4 placements (and seeds: faces_of[i] ascending, seed = its rank-th)
+    faces_of = [[] for _ in range(P)]
+    for f in range(F):
+        faces_of[patch[f]].append(f)
     d = RangeDecoder(place)
     NZ, NEG, MAG = Ctx(), Ctx(), [Ctx() for _ in range(16)]
-    placements = []
-    for _ in range(P):
-        rot = d.uniform(256) if flags & 1 else 0
+    placements, seeds = [], []
+    for i in range(P):
+        rot = d.uniform(256) if flags & ROTATIONS else 0
         x, y = d.uniform32(W + 1), d.uniform32(H + 1)
         page = d.uniform32(pages) if pages > 1 else 0
         step = 0
-        if flags & 2 and d.bit(NZ):
+        if flags & SCALES and d.bit(NZ):
             neg = d.bit(NEG)
             mag = d.exp_golomb(MAG)
             if mag > 31:
                 raise Invalid("bad_value")
             step = -(mag + 1) if neg else mag + 1
+        rank = d.uniform32(len(faces_of[i])) if flags & SEEDS else 0
         placements.append((rot, x, y, page, step))
+        seeds.append(faces_of[i][rank])
     d.finish()
 
-    xy = layout(positions, indices, patch, P)
-    return patch, placements, apply(xy, patch, placements, texel_scale, W, H)
+    xy = layout(positions, indices, faces_of, seeds)
+    return patch, placements, seeds, apply(xy, patch, placements, texel_scale, W, H)
 
 
 # ---- 6.5 layout replay -----------------------------------------------------------
-def layout(pos, idx, patch, P):
+def layout(pos, idx, faces_of, seeds):
     F = len(idx) // 3
 
     def L2(u, w):
@@ -280,13 +288,10 @@ def layout(pos, idx, patch, P):
         dz = pos[3 * u + 2] - pos[3 * w + 2]
         return dx * dx + dy * dy + dz * dz
 
-    faces_of = [[] for _ in range(P)]
-    for f in range(F):
-        faces_of[patch[f]].append(f)
     corner_xy = [0.0] * (6 * F)
-    for p in range(P):
-        fs = faces_of[p]
-        v0, v1, v2 = idx[3 * fs[0]:3 * fs[0] + 3]
+    for p, fs in enumerate(faces_of):
+        seed = seeds[p]
+        v0, v1, v2 = idx[3 * seed:3 * seed + 3]
         place = {}
         sp = [(0.0, 0.0), None, None]
         l01s, l02s = L2(v0, v1), L2(v0, v2)
@@ -428,26 +433,67 @@ def golden_mesh():
     return pos, idx
 
 
-def main():
+def check_vector(name, pos, idx, median_seeds):
+    """Decodes tests/golden/uvmap_v<name>.h; True if it reproduces the hash and
+    the seeds, rejects every proper prefix (truncated), and applies the header
+    rules of sections 4.1 and 6.1 to edited copies."""
     root = Path(__file__).resolve().parent.parent
-    header = (root / "tests/golden/uvmap_v1_0.h").read_text()
-    body = header.split("kUvMapV1_0[] = {")[1].split("};")[0]
+    header = (root / f"tests/golden/uvmap_v{name}.h").read_text()
+    body = header.split(f"kUvMapV{name}[] = {{")[1].split("};")[0]
     stream = bytes(int(v, 16) for v in re.findall(r"0x([0-9a-f]{2})", body))
-    want = int(re.search(r"kUvMapV1_0UvHash = (0x[0-9a-f]+)", header).group(1), 16)
-    pos, idx = golden_mesh()
-    patch, placements, uv = decode(stream, pos, idx)
+    want = int(re.search(rf"kUvMapV{name}UvHash = (0x[0-9a-f]+)", header).group(1), 16)
+    patch, placements, seeds, uv = decode(stream, pos, idx)
     h = fnv1a(b"".join(struct.pack("<f", v) for v in uv))
-    print(f"stream {len(stream)} bytes, {len(placements)} patches, uv hash {h:#x} (want {want:#x})")
+    print(f"{name}: stream {len(stream)} bytes (version 1.{stream[5]}, flags {stream[6]:#04x}), "
+          f"{len(placements)} patches, seeds {seeds}, uv hash {h:#x} (want {want:#x})")
+    ok = h == want
+    # The golden maps: 1.0 grows every patch from its lowest face, 1.1 from
+    # the median of its faces in ascending order.
+    faces_of = [[f for f in range(len(patch)) if patch[f] == p] for p in range(len(placements))]
+    expect = [fs[len(fs) // 2] if median_seeds else fs[0] for fs in faces_of]
+    if seeds != expect:
+        print(f"{name}: seeds {seeds}, want {expect}")
+        ok = False
     for n in range(len(stream)):
         try:
             decode(stream[:n], pos, idx)
-            print(f"prefix {n} decoded")
-            return 1
+            print(f"{name}: prefix {n} decoded")
+            ok = False
         except Invalid as e:
             if str(e) != "truncated":
-                print(f"prefix {n}: {e}")
-                return 1
-    return 0 if h == want else 1
+                print(f"{name}: prefix {n}: {e}")
+                ok = False
+
+    def edit(i, v):
+        return stream[:i] + bytes([v]) + stream[i + 1:]
+    # Section 4.1 / 6.1: a byte appended, minor 2, flag bit 3, and the SEEDS
+    # bit under minor 0 are rejected; minor 1 without SEEDS decodes as minor 0.
+    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 2), "unsupported_version"),
+           (edit(6, stream[6] | 0x08), "reserved_bits")]
+    if stream[6] & 0x04:
+        bad.append((edit(5, 0), "reserved_bits"))
+    else:
+        if decode(edit(5, 1), pos, idx)[3] != uv:
+            print(f"{name}: as version 1.1 decodes differently")
+            ok = False
+        bad.append((edit(6, stream[6] | 0x04), "reserved_bits"))
+    for bad_stream, want_err in bad:
+        try:
+            decode(bad_stream, pos, idx)
+            print(f"{name}: decoded, want {want_err}")
+            ok = False
+        except Invalid as e:
+            if str(e) != want_err:
+                print(f"{name}: {e}, want {want_err}")
+                ok = False
+    return ok
+
+
+def main():
+    pos, idx = golden_mesh()
+    ok = check_vector("1_0", pos, idx, median_seeds=False)
+    ok = check_vector("1_1", pos, idx, median_seeds=True) and ok
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

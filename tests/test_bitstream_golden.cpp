@@ -8,10 +8,12 @@
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include "format/decode_uvs.h"
 #include "format/uvmap_codec.h"
 #include "golden/uvmap_v1_0.h"
+#include "golden/uvmap_v1_1.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -71,6 +73,16 @@ UvMap golden_map(const TriMesh& m) {
   return map;
 }
 
+// The golden 1.1 map: the 1.0 map with a seed per patch, the median of its
+// faces in ascending order (never its lowest face unless it has only one).
+UvMap golden_map_v1_1(const TriMesh& m) {
+  UvMap map = golden_map(m);
+  std::vector<std::vector<uint32_t>> faces(map.patch_count);
+  for (uint32_t f = 0; f < m.face_count(); ++f) faces[map.patch_of_face[f]].push_back(f);
+  for (uint32_t p = 0; p < map.patch_count; ++p) map.seeds.push_back(faces[p][faces[p].size() / 2]);
+  return map;
+}
+
 std::string hex(const std::vector<uint8_t>& b) {
   std::string s;
   char buf[8];
@@ -109,6 +121,48 @@ TEST(BitstreamGolden, V1_0DecodesToFrozenUvs) {
 TEST(BitstreamGolden, V1_0EveryTruncationIsRejected) {
   const TriMesh mesh = golden_mesh();
   const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0));
+  for (size_t len = 0; len < golden.size(); ++len) {
+    std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
+    std::vector<float> uv;
+    EXPECT_EQ(decode_uvs(mesh, cut, uv), UvStatus::truncated) << len;
+  }
+  auto longer = golden;
+  longer.push_back(0);
+  std::vector<float> uv;
+  EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
+}
+
+TEST(BitstreamGolden, WriterReproducesV1_1Bytes) {
+  const TriMesh mesh = golden_mesh();
+  const UvMap map = golden_map_v1_1(mesh);
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1));
+  EXPECT_EQ(bytes, golden) << "writer output changed; new bytes:\n" << hex(bytes);
+}
+
+TEST(BitstreamGolden, V1_1DecodesToFrozenUvs) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1));
+  UvMap map;
+  std::vector<float> uv;
+  ASSERT_EQ(decode_uvs(mesh, golden, uv, &map), UvStatus::ok);
+  EXPECT_EQ(map, golden_map_v1_1(mesh));
+  ASSERT_EQ(uv.size(), size_t{mesh.face_count()} * 6);
+  const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
+  EXPECT_EQ(h, golden::kUvMapV1_1UvHash) << std::hex << "0x" << h;
+  // Spot values: the first vertex of patch 0's seed face lands on patch 0's
+  // translation (face 0, the 1.0 seed, no longer does).
+  ASSERT_EQ(map.seeds.size(), map.patch_count);
+  EXPECT_EQ(map.seeds[0], golden::kUvMapV1_1Seed0);
+  const size_t c = 6 * size_t{golden::kUvMapV1_1Seed0};
+  EXPECT_EQ(uv[c], golden::kUvMapV1_1Seed0Corner0[0]);
+  EXPECT_EQ(uv[c + 1], golden::kUvMapV1_1Seed0Corner0[1]);
+  EXPECT_FALSE(uv[0] == golden::kUvMapV1_0Corner0[0] && uv[1] == golden::kUvMapV1_0Corner0[1]);
+}
+
+TEST(BitstreamGolden, V1_1EveryTruncationIsRejected) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1));
   for (size_t len = 0; len < golden.size(); ++len) {
     std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
     std::vector<float> uv;
