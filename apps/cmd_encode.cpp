@@ -16,7 +16,8 @@ Runner add_encode(CLI::App& app) {
     std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
         texel_budget = "count";
     EncodeOptions opt;
-    bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false;
+    bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false,
+         cross_source_seams = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
@@ -28,6 +29,9 @@ Runner add_encode(CLI::App& app) {
   app.add_flag("--report-greedy", a->opt.report_greedy,
                "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
                "beside ours (not used for the output)");
+  app.add_flag("--cross-source-seams", a->cross_source_seams,
+               "Let patches cross the source's UV seams (fewer seams; the viewer then blends the two source regions "
+               "along each crossed seam, which costs quality or texels)");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
       ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
   app.add_option("--texel-density", a->texel_density,
@@ -65,6 +69,7 @@ Runner add_encode(CLI::App& app) {
     EncodeOptions opt = a->opt;
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
+    opt.keep_source_charts = !a->cross_source_seams;
     opt.implicit_uvs = !a->explicit_uvs;
     opt.quality_fallback = !a->always_implicit;
     opt.adaptive_density = !a->fixed_density;

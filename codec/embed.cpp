@@ -51,7 +51,9 @@ double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(leng
 
 // The density rule (EmbedOptions::face_density): ln of each face's source
 // texel density (NaN = unknown) and the largest spread ln(max_density_ratio)
-// allowed inside one region or patch.
+// allowed inside one region or patch. The chart rule (face_chart) rides on
+// it: each chart's values are offset by kChartSpacing times its id, so two
+// charts' faces always differ by more than the limit.
 struct DensityRule {
   bool active = false;
   double limit = 0;
@@ -69,14 +71,19 @@ struct DensityRule {
 
 DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
   DensityRule r;
-  if (o.face_density.size() != nf || !(o.max_density_ratio > 1) || !std::isfinite(o.max_density_ratio))
-    return r;
+  const bool density = o.face_density.size() == nf && o.max_density_ratio > 1 && std::isfinite(o.max_density_ratio);
+  const bool charts = o.face_chart.size() == nf && nf > 0;
+  if (!density && !charts) return r;
+  // ln of any finite density lies within +-745; offsets 4096 apart keep
+  // every chart's band clear of the others' by more than any limit used.
+  constexpr double kChartSpacing = 4096.0;
   r.active = true;
-  r.limit = std::log(o.max_density_ratio);
+  r.limit = density ? std::log(o.max_density_ratio) : 1.0;
   r.ln.resize(nf);
   for (uint32_t f = 0; f < nf; ++f) {
-    const double d = o.face_density[f];
-    r.ln[f] = d > 0 && std::isfinite(d) ? std::log(d) : std::numeric_limits<double>::quiet_NaN();
+    const double d = density ? o.face_density[f] : 1.0;
+    const double chart = charts ? kChartSpacing * double(o.face_chart[f]) : 0.0;
+    r.ln[f] = d > 0 && std::isfinite(d) ? chart + std::log(d) : std::numeric_limits<double>::quiet_NaN();
   }
   return r;
 }

@@ -8,6 +8,7 @@
 #include "codec/corner_match.h"
 #include "codec/embed.h"
 #include "codec/embedding_mesh.h"
+#include "codec/source_charts.h"
 #include "codec/image_io.h"
 #include "codec/pack.h"
 #include "codec/texel_density.h"
@@ -252,6 +253,9 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   std::vector<double> face_density;
   if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
   eo.face_density = face_density;
+  std::vector<uint32_t> face_chart;
+  if (options.keep_source_charts && image_w > 0) face_chart = source_charts(ip.tri, ip.source_uv);
+  eo.face_chart = face_chart;
   Embedding er = embed(ip.tri, eo);
   if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
 

@@ -15,7 +15,9 @@
 #include "codec/embedding_mesh.h"
 #include "codec/geometry2d.h"
 #include "codec/shapes.h"
+#include "codec/source_charts.h"
 #include "codec/texel_density.h"
+#include "codec/topology.h"
 #include "format/gltf_io.h"
 #include "format/gltf_primitive.h"
 #include "support/corpus.h"
@@ -304,6 +306,58 @@ TEST(Embed, DensityJumpSplitsPatches) {
       EXPECT_EQ(e.patch_count, 1u);
     }
   }
+}
+
+// Source charts: the plane's right half moved elsewhere in the source
+// texture is a second chart, and no patch takes faces of both, though the
+// geometry alone would make one patch of the whole plane. A UV sphere's
+// wrap-around seam leaves it one (slit) chart.
+TEST(Embed, PatchesStayInsideSourceCharts) {
+  const ShapeMesh plane = make_plane(30, 20);
+  const TriMesh& m = plane.mesh;
+  auto right = [&](uint32_t f) {
+    double x = 0;
+    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
+    return x / 3 > 0.5;
+  };
+  std::vector<float> uv(plane.corner_uv.size());
+  for (uint32_t f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.indices[3 * f + k];
+      uv[6 * f + 2 * k] = float(0.4 * m.positions[3 * v] + (right(f) ? 0.5 : 0.0));
+      uv[6 * f + 2 * k + 1] = float(0.4 * m.positions[3 * v + 1]);
+    }
+  const std::vector<uint32_t> chart = source_charts(m, uv);
+  ASSERT_EQ(chart.size(), m.face_count());
+  for (uint32_t f = 0; f < m.face_count(); ++f) EXPECT_EQ(chart[f], chart[0] == 0 ? uint32_t(right(f)) : 0u);
+  EXPECT_EQ(chart[0], 0u);  // numbered by lowest face
+  EXPECT_EQ(embed(m).patch_count, 1u);
+  EmbedOptions opt;
+  opt.face_chart = chart;
+  const Embedding e = embed(m, opt);
+  expect_guarantees(m, e, opt.tau);
+  EXPECT_EQ(e.patch_count, 2u);
+  auto one_chart_per_patch = [&](const Embedding& em) {
+    std::vector<uint32_t> chart_of(em.patch_count, kNone);
+    for (uint32_t f = 0; f < m.face_count(); ++f) {
+      uint32_t& c = chart_of[em.patch_of_face[f]];
+      if (c == kNone) c = chart[f];
+      EXPECT_EQ(c, chart[f]) << "face " << f;
+    }
+  };
+  one_chart_per_patch(e);
+
+  const ShapeMesh sphere = make_sphere(24, 12);
+  const std::vector<uint32_t> one = source_charts(sphere.mesh, sphere.corner_uv);
+  EXPECT_EQ(*std::max_element(one.begin(), one.end()), 0u);
+  // With a density rule too, both rules hold.
+  std::vector<double> density(m.face_count());
+  for (uint32_t f = 0; f < m.face_count(); ++f) density[f] = (f / 7) % 3 == 0 ? 160.0 : 10.0;
+  opt.face_density = density;
+  const Embedding both = embed(m, opt);
+  expect_guarantees(m, both, opt.tau);
+  EXPECT_LE(worst_patch_density_ratio(both, density), opt.max_density_ratio * (1 + 1e-9));
+  one_chart_per_patch(both);
 }
 
 // The rule holds on every shape for a density that varies smoothly over
