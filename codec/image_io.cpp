@@ -124,8 +124,12 @@ std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out) {
   return "";
 }
 
-std::string encode_image(const ImageBuf& image, const ImageEncodeOptions& options,
-                         std::vector<uint8_t>& bytes) {
+namespace {
+
+// One encode; png_filter is OIIO's "png:filter" (0: libpng's adaptive choice,
+// else a mask of PNG_FILTER_* bits).
+std::string encode_once(const ImageBuf& image, const ImageEncodeOptions& options, int png_filter,
+                        std::vector<uint8_t>& bytes) {
   bytes.clear();
   if (!image.initialized()) return "empty image";
   const ImageSpec& src = image.spec();
@@ -144,6 +148,7 @@ std::string encode_image(const ImageBuf& image, const ImageEncodeOptions& option
     spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(options.jpeg_quality, 1, 100)));
   } else {
     spec.attribute("png:compressionLevel", std::clamp(options.png_compression, 0, 9));
+    if (png_filter != 0) spec.attribute("png:filter", png_filter);
   }
   const char* name = jpeg ? "out.jpg" : "out.png";
   OIIO::Filesystem::IOVecOutput writer(bytes);
@@ -157,6 +162,19 @@ std::string encode_image(const ImageBuf& image, const ImageEncodeOptions& option
     if (!o->write_scanline(y, 0, fmt, row.data())) return "cannot encode: " + o->geterror();
   }
   if (!o->close()) return "cannot finish encoding: " + o->geterror();
+  return "";
+}
+
+}  // namespace
+
+std::string encode_image(const ImageBuf& image, const ImageEncodeOptions& options,
+                         std::vector<uint8_t>& bytes) {
+  std::string error = encode_once(image, options, 0, bytes);
+  if (!error.empty() || options.codec != ImageCodec::png || !options.png_try_unfiltered) return error;
+  constexpr int kPngFilterNone = 0x08;  // PNG_FILTER_NONE
+  std::vector<uint8_t> unfiltered;
+  if (encode_once(image, options, kPngFilterNone, unfiltered).empty() && unfiltered.size() < bytes.size())
+    bytes.swap(unfiltered);
   return "";
 }
 

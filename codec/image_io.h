@@ -38,7 +38,13 @@ std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out);
 struct ImageEncodeOptions {
   ImageCodec codec = ImageCodec::png;  // png or jpeg
   int jpeg_quality = 90;               // 1..100, IJG scale
-  int png_compression = 6;             // zlib level 0..9
+  int png_compression = 9;             // zlib level 0..9
+  // PNG: also encode with every row unfiltered and keep the smaller file.
+  // libpng's adaptive filter choice suits photographs; flat-coloured art
+  // (and warped atlases of it) often codes far smaller unfiltered: Fox's
+  // atlas 43.7 -> 32.0 KB, DuckCM 27.7 -> 22.1 KB, while TwoSidedPlane's
+  // base colour goes the other way (54.7 against 70.6 KB).
+  bool png_try_unfiltered = true;
 };
 
 // Encodes `image` (1..4 channels; JPEG drops alpha) into `bytes`. Returns ""
