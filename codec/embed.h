@@ -50,10 +50,12 @@ struct EmbedOptions {
   // Compact: the source UV chart of each face (source_charts.h), or empty.
   // When given, no patch holds faces of two charts, so no patch crosses a
   // source UV seam (the viewer would blend two unrelated source regions
-  // along it). Measured at tau 1.3 with the default density rule: Duck 625
-  // -> 547 seams, CesiumMilkTruck images 584 -> 297 KB at the 38 dB floor
+  // along it). Measured at tau 1.3 (the encoder then relaxes the density
+  // rule to 32x): CesiumMilkTruck images 584 -> 284 KB at the 38 dB floor
   // (patches no longer blur its decals and panel edges, so the adaptive
-  // density halves more of them); Fox 143 -> 176 seams, 48 -> 44 KB.
+  // density halves more of them), Fox 48 -> 44 KB; seams Duck 625 -> 557,
+  // Fox 143 -> 176, truck 616 -> 711. Seams inside one chart (a chart cut
+  // by a slit, like a cylinder's) are not enforced.
   std::span<const uint32_t> face_chart;
 };
 

@@ -256,6 +256,12 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   std::vector<uint32_t> face_chart;
   if (options.keep_source_charts && image_w > 0) face_chart = source_charts(ip.tri, ip.source_uv);
   eo.face_chart = face_chart;
+  // Inside one source chart densities rarely jump (artists give detail its
+  // own chart), so the density rule only guards the extreme cases there.
+  // Measured with charts: ratio 8 costs Duck 658 seams against 557 at 32 and
+  // 532 off, at the same 42.6 dB and bytes; CesiumMilkTruck is 284 KB at 8
+  // and 32 and 297 KB with the rule off.
+  if (!face_chart.empty()) eo.max_density_ratio = 32.0;
   Embedding er = embed(ip.tri, eo);
   if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
 
