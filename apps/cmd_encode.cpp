@@ -57,7 +57,7 @@ Runner add_encode(CLI::App& app) {
                "Keep every patch at its measured density (default: patches whose content is smooth get half their "
                "texels while the atlas keeps --min-psnr plus 0.5 dB)");
   app.add_flag("--always-implicit", a->always_implicit,
-               "Never fall back to explicit UVs for quality (still raise the density to meet --min-psnr)");
+               "Never fall back to explicit UVs, for quality or for size (still raise the density to meet --min-psnr)");
   app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
   app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")->default_val(14)->check(CLI::Range(1, 30));
   app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")->default_val(10)->check(CLI::Range(1, 30));

@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <cmath>
 #include <map>
+#include <set>
 #include <tuple>
 
+#include "codec/draco_geometry.h"
 #include "codec/image_io.h"
 #include "codec/png_palette.h"
 #include "codec/implicit_uv_encoder.h"
@@ -391,6 +393,38 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
   return {};
 }
 
+// What the primitive's geometry costs with its explicit UVs: the source
+// primitive as restore_explicit_uvs would write it (Draco, or raw arrays).
+// 0 when it cannot be measured (the comparison then favours the atlas).
+size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options) {
+  PrimitiveGeometry geom;
+  if (!read_primitive(model, ip.source_primitive, geom).empty()) return 0;
+  if (options.raw_geometry) {
+    size_t bytes = geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+    for (const auto& a : geom.attributes) bytes += a.data.size();
+    return bytes;
+  }
+  const DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options.draco);
+  return enc.error.empty() ? enc.bytes.size() : 0;
+}
+
+// Bytes of the source images that the group's atlas would make redundant:
+// images whose every use, in every material, is a TEXCOORD_0 slot of one of
+// the group's materials. An image that something else samples stays in the
+// file whatever the group does.
+size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group, const GroupAtlas& built) {
+  std::set<int> images;
+  for (const WarpJob& job : built.jobs) images.insert(job.image);
+  for (int m = 0; m < int(model.materials.size()); ++m) {
+    const bool ours = std::find(group.materials.begin(), group.materials.end(), m) != group.materials.end();
+    for (const TextureSlot& slot : texture_slots(model, m))
+      if (!ours || slot.tex_coord != 0) images.erase(texture_image(model, slot.texture));
+  }
+  size_t bytes = 0;
+  for (int i : images) bytes += model.images[i].image.size();
+  return bytes;
+}
+
 // Smooth content keeps its quality with fewer texels. Each round measures
 // every patch at two scale steps less than now (half its texels), then
 // gives the smaller scale to the patches that buy the most texels for the
@@ -477,6 +511,18 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
   std::vector<double> factors = {options.texel_density_factor};
   if (auto_density && min_psnr > 0)
     for (double boost : options.density_boosts) factors.push_back(options.texel_density_factor * boost);
+  // The group's primitives keep their explicit UVs; the report says why.
+  auto keep_explicit = [&](const AtlasGroup& group, const std::string& why) -> std::string {
+    for (size_t m : group.members) {
+      auto& pr = report.primitives[plan.prims[m].report_index];
+      std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
+      if (!err.empty()) return err;
+      report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " + std::to_string(pr.primitive) +
+                             ": " + pr.handling);
+      plan.group_of.erase({pr.mesh, pr.primitive});
+    }
+    return {};
+  };
   for (size_t gi = 0; gi < plan.groups.size(); ++gi) {
     auto& group = plan.groups[gi];
     if (group.members.empty()) continue;
@@ -500,15 +546,27 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       char why[160];
       std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f",
                     psnr, built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
-      for (size_t m : group.members) {
-        auto& pr = report.primitives[plan.prims[m].report_index];
-        std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
-        if (!err.empty()) return err;
-        report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " + std::to_string(pr.primitive) +
-                               ": " + pr.handling);
-        plan.group_of.erase({pr.mesh, pr.primitive});
-      }
+      if (std::string err = keep_explicit(group, why); !err.empty()) return err;
       continue;
+    }
+    // The method exists to save bytes: when the atlas and the bitstreams
+    // cost more than the source images and explicit UVs would (fine text,
+    // tiny quads carrying big images), keep the explicit UVs.
+    if (options.quality_fallback) {
+      size_t implicit_bytes = built.report.atlas_image_bytes;
+      size_t explicit_bytes = replaceable_source_bytes(model, group, built);
+      for (size_t k = 0; k < group.members.size(); ++k) {
+        const ImplicitPrimitive& ip = plan.prims[group.members[k]];
+        implicit_bytes += report.primitives[ip.report_index].geometry_bytes + built.bitstreams[k].size();
+        explicit_bytes += explicit_geometry_bytes(model, ip, options);
+      }
+      if (implicit_bytes > explicit_bytes) {
+        char why[200];
+        std::snprintf(why, sizeof why, "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
+                      "and a %.1f dB atlas", explicit_bytes, implicit_bytes, built.error.psnr());
+        if (std::string err = keep_explicit(group, why); !err.empty()) return err;
+        continue;
+      }
     }
     commit_group_atlas(model, plan, group, built, report, clamp_sampler, retired_textures);
   }

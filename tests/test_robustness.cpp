@@ -2,9 +2,10 @@
 // CLI: valid-but-varied scenes round-trip validator-clean; malformed files
 // fail with one line on stderr, a non-zero exit and no output; nothing ever
 // crashes or hangs. The files are generated here (support/malformed.h).
-// Encodes here pass --min-psnr 0: these scenes test the container, and their
-// small synthetic textures would otherwise fall back to explicit UVs
-// (the quality floor has its own tests in test_roundtrip and test_warp_quality).
+// Encodes here pass --min-psnr 0 --always-implicit: these scenes test the
+// container, and their small synthetic textures would otherwise fall back to
+// explicit UVs, for quality or for size (those fallbacks have their own tests
+// in test_roundtrip and test_warp_quality).
 #include <cmath>
 #include <cstring>
 #include <cstdlib>
@@ -115,7 +116,7 @@ Pair plain_and_encoded(const std::string& dir) {
   tinygltf::Model m = empty_scene();
   add_primitive(m, grid_mesh(8, 6), add_material(m, add_texture(m, add_png_image(m, 64))));
   EXPECT_EQ(write_gltf(m, p.plain), "");
-  const CliRun r = run_cli("encode -q --min-psnr 0 " + quote(p.plain) + " -o " + quote(p.encoded));
+  const CliRun r = run_cli("encode -q --min-psnr 0 --always-implicit " + quote(p.plain) + " -o " + quote(p.encoded));
   EXPECT_EQ(r.code, 0) << r.err;
   return p;
 }
@@ -133,7 +134,7 @@ TEST(Robustness, VariedModelsRoundTrip) {
     const ValidatorResult source = validate(src);
 
     const std::string enc = dir + "/" + v.name + ".enc.glb", dec = dir + "/" + v.name + ".dec.glb";
-    CliRun r = run_cli("encode --min-psnr 0 " + quote(src) + " -o " + quote(enc));
+    CliRun r = run_cli("encode --min-psnr 0 --always-implicit " + quote(src) + " -o " + quote(enc));
     expect_clean(r, "encode " + v.name);
     ASSERT_EQ(r.code, 0) << r.err << r.out;
     tinygltf::Model encoded;
@@ -169,7 +170,7 @@ TEST(Robustness, VariedModelsRoundTrip) {
     expect_validator_clean_as(dec, source);
     // Decoded output is a plain glTF: encoding it again works too.
     if (fast()) continue;
-    r = run_cli("encode -q --min-psnr 0 " + quote(dec) + " -o " + quote(dir + "/" + v.name + ".again.glb"));
+    r = run_cli("encode -q --min-psnr 0 --always-implicit " + quote(dec) + " -o " + quote(dir + "/" + v.name + ".again.glb"));
     expect_clean(r, "re-encode " + v.name);
     EXPECT_EQ(r.code, 0) << r.err;
   }
@@ -189,7 +190,7 @@ TEST(Robustness, DracoInputEncodesToo) {
   for (const std::string geometry : {"draco", "raw"}) {
     SCOPED_TRACE(geometry);
     const std::string out = dir + "/enc-" + geometry + ".glb";
-    r = run_cli("encode -q --min-psnr 0 --geometry " + geometry + " " + quote(dir + "/draco.glb") + " -o " + quote(out));
+    r = run_cli("encode -q --min-psnr 0 --always-implicit --geometry " + geometry + " " + quote(dir + "/draco.glb") + " -o " + quote(out));
     ASSERT_EQ(r.code, 0) << r.err;
     tinygltf::Model enc;
     ASSERT_TRUE(read_gltf(out, enc).ok);
