@@ -93,6 +93,21 @@ std::string hex(const std::vector<uint8_t>& b) {
   return s;
 }
 
+// Every proper prefix of a golden stream decodes to `truncated`, the stream
+// with one byte more to `trailing_bytes`.
+void expect_prefixes_truncated(const std::vector<uint8_t>& golden) {
+  const TriMesh mesh = golden_mesh();
+  for (size_t len = 0; len < golden.size(); ++len) {
+    std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
+    std::vector<float> uv;
+    EXPECT_EQ(decode_uvs(mesh, cut, uv), UvStatus::truncated) << len;
+  }
+  auto longer = golden;
+  longer.push_back(0);
+  std::vector<float> uv;
+  EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
+}
+
 }  // namespace
 
 TEST(BitstreamGolden, WriterReproducesV1_0Bytes) {
@@ -119,17 +134,7 @@ TEST(BitstreamGolden, V1_0DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_0EveryTruncationIsRejected) {
-  const TriMesh mesh = golden_mesh();
-  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0));
-  for (size_t len = 0; len < golden.size(); ++len) {
-    std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
-    std::vector<float> uv;
-    EXPECT_EQ(decode_uvs(mesh, cut, uv), UvStatus::truncated) << len;
-  }
-  auto longer = golden;
-  longer.push_back(0);
-  std::vector<float> uv;
-  EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
+  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0)));
 }
 
 TEST(BitstreamGolden, WriterReproducesV1_1Bytes) {
@@ -161,15 +166,5 @@ TEST(BitstreamGolden, V1_1DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_1EveryTruncationIsRejected) {
-  const TriMesh mesh = golden_mesh();
-  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1));
-  for (size_t len = 0; len < golden.size(); ++len) {
-    std::vector<uint8_t> cut(golden.begin(), golden.begin() + len);
-    std::vector<float> uv;
-    EXPECT_EQ(decode_uvs(mesh, cut, uv), UvStatus::truncated) << len;
-  }
-  auto longer = golden;
-  longer.push_back(0);
-  std::vector<float> uv;
-  EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
+  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
 }

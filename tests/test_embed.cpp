@@ -270,24 +270,35 @@ double worst_patch_density_ratio(const Embedding& e, const std::vector<double>& 
 // A plane whose source UVs give its right half 16x the texel density of its
 // left half: without densities it is one patch; with them no patch spans
 // the jump. A jump within the ratio (1.5x) still gives one patch.
+// Faces of a unit-square mesh whose centroid lies right of x = 0.5.
+bool right_half(const TriMesh& m, uint32_t f) {
+  double x = 0;
+  for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
+  return x / 3 > 0.5;
+}
+
+// Source UVs of a unit-square mesh: position times `scale`, and on the right
+// half times `right_scale` and shifted by `right_shift` in u.
+std::vector<float> half_plane_uvs(const TriMesh& m, double scale, double right_scale, double right_shift) {
+  std::vector<float> uv(size_t{m.face_count()} * 6);
+  for (uint32_t f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.indices[3 * f + k];
+      const bool r = right_half(m, f);
+      const double s = r ? scale * right_scale : scale;
+      uv[6 * f + 2 * k] = float(s * m.positions[3 * v] + (r ? right_shift : 0.0));
+      uv[6 * f + 2 * k + 1] = float(s * m.positions[3 * v + 1]);
+    }
+  return uv;
+}
+
 TEST(Embed, DensityJumpSplitsPatches) {
   const ShapeMesh plane = make_plane(30, 20);
   const TriMesh& m = plane.mesh;
-  auto right = [&](uint32_t f) {
-    double x = 0;
-    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
-    return x / 3 > 0.5;
-  };
+  auto right = [&](uint32_t f) { return right_half(m, f); };
   for (double jump : {16.0, 1.5}) {
     SCOPED_TRACE(jump);
-    std::vector<float> uv(plane.corner_uv.size());
-    for (uint32_t f = 0; f < m.face_count(); ++f)
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t v = m.indices[3 * f + k];
-        const double s = right(f) ? 0.1 * jump : 0.1;
-        uv[6 * f + 2 * k] = float(s * m.positions[3 * v]);
-        uv[6 * f + 2 * k + 1] = float(s * m.positions[3 * v + 1]);
-      }
+    const std::vector<float> uv = half_plane_uvs(m, 0.1, jump, 0.0);
     const std::vector<double> density = triangle_texel_density(m, uv, 256, 256);
     EmbedOptions opt;
     opt.face_density = density;
@@ -315,18 +326,8 @@ TEST(Embed, DensityJumpSplitsPatches) {
 TEST(Embed, PatchesStayInsideSourceCharts) {
   const ShapeMesh plane = make_plane(30, 20);
   const TriMesh& m = plane.mesh;
-  auto right = [&](uint32_t f) {
-    double x = 0;
-    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]];
-    return x / 3 > 0.5;
-  };
-  std::vector<float> uv(plane.corner_uv.size());
-  for (uint32_t f = 0; f < m.face_count(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t v = m.indices[3 * f + k];
-      uv[6 * f + 2 * k] = float(0.4 * m.positions[3 * v] + (right(f) ? 0.5 : 0.0));
-      uv[6 * f + 2 * k + 1] = float(0.4 * m.positions[3 * v + 1]);
-    }
+  auto right = [&](uint32_t f) { return right_half(m, f); };
+  const std::vector<float> uv = half_plane_uvs(m, 0.4, 1.0, 0.5);
   const std::vector<uint32_t> chart = source_charts(m, uv);
   ASSERT_EQ(chart.size(), m.face_count());
   for (uint32_t f = 0; f < m.face_count(); ++f) EXPECT_EQ(chart[f], chart[0] == 0 ? uint32_t(right(f)) : 0u);
