@@ -54,8 +54,8 @@ Runner add_encode(CLI::App& app) {
                  "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
   app.add_flag("--fixed-density", a->fixed_density,
-               "Keep every patch at its measured density (default: patches whose content is smooth get half their "
-               "texels while the atlas keeps --min-psnr plus 0.5 dB)");
+               "Keep every patch at its measured density (default: patches whose content is smooth have their "
+               "texels halved, up to six times, while the atlas keeps --min-psnr plus 0.5 dB)");
   app.add_flag("--always-implicit", a->always_implicit,
                "Never fall back to explicit UVs, for quality or for size (still raise the density to meet --min-psnr)");
   app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");

@@ -41,7 +41,11 @@ struct EncodeOptions {
   // With the floor on: give patches whose content is smooth half their
   // texels (two scale steps) while the group keeps the floor plus 0.5 dB.
   bool adaptive_density = true;
-  int adaptive_rounds = 2;        // halvings a patch may get (each round: two scale steps)
+  // Halvings a patch may get (each round: two scale steps). Rounds stop early
+  // once one no longer shrinks the images. Duck: 2 rounds 15.6 KB at 42.4 dB,
+  // 3 rounds 11.9 KB, 6 rounds 6.9 KB at 41.8 dB; the truck and the Fox stop
+  // after their first rounds (no headroom above the floor).
+  int adaptive_rounds = 6;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 
