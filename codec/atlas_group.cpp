@@ -382,8 +382,7 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
   pr.atlas = -1;
   if (options.raw_geometry) {
     write_primitive_plain(model, prim, geom, replaced);
-    for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
-    pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+    pr.geometry_bytes = plain_geometry_bytes(geom);
   } else {
     PrimitiveGeometry decoded;
     err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);
@@ -399,11 +398,8 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
 size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options) {
   PrimitiveGeometry geom;
   if (!read_primitive(model, ip.source_primitive, geom).empty()) return 0;
-  if (options.raw_geometry) {
-    size_t bytes = geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
-    for (const auto& a : geom.attributes) bytes += a.data.size();
-    return bytes;
-  }
+  if (options.raw_geometry) return plain_geometry_bytes(geom);
+  if (!non_finite_attribute(geom).empty()) return 0;
   const DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options.draco);
   return enc.error.empty() ? enc.bytes.size() : 0;
 }
@@ -558,8 +554,11 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       for (size_t k = 0; k < group.members.size(); ++k) {
         const ImplicitPrimitive& ip = plan.prims[group.members[k]];
         implicit_bytes += report.primitives[ip.report_index].geometry_bytes + built.bitstreams[k].size();
-        explicit_bytes += explicit_geometry_bytes(model, ip, options);
       }
+      // Explicit geometry costs a Draco encode to measure; skip it when the
+      // saved images alone already outweigh everything the map costs.
+      if (implicit_bytes > explicit_bytes)
+        for (size_t m : group.members) explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
       if (implicit_bytes > explicit_bytes) {
         char why[200];
         std::snprintf(why, sizeof why, "smaller: %zu bytes of geometry and images, against %zu with the implicit map "

@@ -1098,7 +1098,8 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
       uint32_t seed = kNone;
       if (!regrow_whole(g, picker, sets[p], id, faces, verts, &seed)) {
         // Neither seed grows the whole set (it was never a whole regrowth,
-        // or a merge trial's xy was restored): keep the larger growth.
+        // or a merge trial's xy was restored): keep what grows from its
+        // centre; grow_all below takes the rest.
         for (uint32_t f : faces) g.face_patch[f] = kNone;
         seed = picker.centre(sets[p]);
         if (seed == kNone) continue;

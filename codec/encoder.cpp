@@ -73,8 +73,7 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
       if (options.raw_geometry) {
         write_primitive_plain(model, prim, geom, replaced);
         if (pr.handling.empty()) pr.handling = "raw";
-        for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
-        pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+        pr.geometry_bytes += plain_geometry_bytes(geom);
       } else {
         PrimitiveGeometry decoded;
         err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);

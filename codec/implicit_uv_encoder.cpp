@@ -216,8 +216,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   if (options.raw_geometry) {
     write_primitive_plain(model, trial, geom, trial_replaced);
     ip.decoded = geom;
-    for (const auto& a : geom.attributes) pr.geometry_bytes += a.data.size();
-    pr.geometry_bytes += geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+    pr.geometry_bytes += plain_geometry_bytes(geom);
   } else {
     std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded, pr.geometry_bytes);
     if (!err.empty()) return err;

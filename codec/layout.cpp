@@ -120,6 +120,17 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
   return p;
 }
 
+void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count, std::vector<uint32_t>& start,
+                    std::vector<uint32_t>& faces) {
+  const size_t nf = patch_of_face.size();
+  start.assign(size_t{patch_count} + 1, 0);
+  for (size_t f = 0; f < nf; ++f) ++start[patch_of_face[f] + 1];
+  for (uint32_t p = 0; p < patch_count; ++p) start[p + 1] += start[p];
+  faces.resize(nf);
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t f = 0; f < nf; ++f) faces[fill[patch_of_face[f]]++] = uint32_t(f);
+}
+
 namespace {
 
 // Face incidences grouped per vertex, and within a vertex sorted by (patch,
@@ -170,14 +181,8 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   }
   const uint32_t* idx = mesh.indices.data();
 
-  // Faces of each patch, ascending (counting sort by patch id).
-  std::vector<uint32_t> poff(size_t{patch_count} + 1, 0), pfaces(nf);
-  for (uint32_t f = 0; f < nf; ++f) ++poff[patch_of_face[f] + 1];
-  for (uint32_t p = 0; p < patch_count; ++p) poff[p + 1] += poff[p];
-  {
-    std::vector<uint32_t> fill(poff.begin(), poff.end() - 1);
-    for (uint32_t f = 0; f < nf; ++f) pfaces[fill[patch_of_face[f]]++] = f;
-  }
+  std::vector<uint32_t> poff, pfaces;
+  faces_by_patch(patch_of_face, patch_count, poff, pfaces);
   PatchIncidence inc;
   {
     const size_t nc = size_t{nf} * 3;

@@ -90,6 +90,11 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
                             uint32_t patch_count, FaceSink sink, void* context,
                             std::span<const uint32_t> seeds = {});
 
+// The faces of each patch in ascending order, by a counting sort: patch p's
+// faces are faces[start[p] .. start[p + 1]). Every id must be < patch_count.
+void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count, std::vector<uint32_t>& start,
+                    std::vector<uint32_t>& faces);
+
 // Building blocks of the replay, exposed so that the encoder's growth
 // (codec/embed.cpp) computes exactly the same floats for the same inputs.
 inline constexpr int kRelaxSteps = 2;

@@ -9,11 +9,8 @@
 #include "codec/warp.h"
 
 namespace gltfwarp {
-namespace {
 
-// A texel index wrapped as a GPU sampler wraps it (per axis, per texel, so
-// bilinear at a REPEAT edge blends the last texel with the first).
-int wrap_index(long i, int n, OIIO::ImageBuf::WrapMode w) {
+int wrap_texel_index(long i, int n, OIIO::ImageBuf::WrapMode w) {
   if (w == OIIO::ImageBuf::WrapClamp) return int(std::clamp<long>(i, 0, n - 1));
   if (w == OIIO::ImageBuf::WrapMirror) {
     const long p = 2L * n, m = ((i % p) + p) % p;
@@ -21,6 +18,8 @@ int wrap_index(long i, int n, OIIO::ImageBuf::WrapMode w) {
   }
   return int(((i % n) + n) % n);
 }
+
+namespace {
 
 OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
   if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return OIIO::ImageBuf::WrapClamp;
@@ -40,8 +39,8 @@ void TextureSampler::sample(double u, double v, float* out) const {
     return;
   }
   const double fx = std::floor(x), fy = std::floor(y), ax = x - fx, ay = y - fy;
-  const int x0 = wrap_index(long(fx), w, wrap_s), x1 = wrap_index(long(fx) + 1, w, wrap_s);
-  const int y0 = wrap_index(long(fy), h, wrap_t), y1 = wrap_index(long(fy) + 1, h, wrap_t);
+  const int x0 = wrap_texel_index(long(fx), w, wrap_s), x1 = wrap_texel_index(long(fx) + 1, w, wrap_s);
+  const int y0 = wrap_texel_index(long(fy), h, wrap_t), y1 = wrap_texel_index(long(fy) + 1, h, wrap_t);
   const float* px = static_cast<const float*>(pixels.localpixels());
   const float* a = px + (size_t(y0) * w + x0) * nch;
   const float* b = px + (size_t(y0) * w + x1) * nch;

@@ -16,6 +16,10 @@
 
 namespace gltfwarp {
 
+// A texel index wrapped as a GPU sampler wraps it: per axis, per texel, so
+// bilinear at a REPEAT edge blends the last texel with the first.
+int wrap_texel_index(long i, int n, OIIO::ImageBuf::WrapMode w);
+
 struct TextureSampler {
   OIIO::ImageBuf pixels;  // float, local, origin 0; colour channels in linear light for sRGB slots
   OIIO::ImageBuf::WrapMode wrap_s = OIIO::ImageBuf::WrapPeriodic, wrap_t = OIIO::ImageBuf::WrapPeriodic;

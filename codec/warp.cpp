@@ -19,6 +19,8 @@
 
 #include <unistd.h>
 
+#include "codec/texture_sampler.h"
+
 namespace gltfwarp {
 
 using OIIO::ImageBuf;
@@ -65,20 +67,11 @@ struct Tri {
   bool magnifies;       // one atlas texel spans at most one source texel
 };
 
-// Wraps a texel index into [0, n) by a glTF sampler wrap mode.
-inline int wrap_index(int i, int n, WrapMode w) {
+OIIO::ImageBuf::WrapMode to_imagebuf_wrap(WrapMode w) {
   switch (w) {
-    case WrapMode::clamp_to_edge: return std::clamp(i, 0, n - 1);
-    case WrapMode::mirrored_repeat: {
-      const int period = 2 * n;
-      int k = i % period;
-      if (k < 0) k += period;
-      return k < n ? k : period - 1 - k;
-    }
-    default: {
-      const int k = i % n;
-      return k < 0 ? k + n : k;
-    }
+    case WrapMode::clamp_to_edge: return OIIO::ImageBuf::WrapClamp;
+    case WrapMode::mirrored_repeat: return OIIO::ImageBuf::WrapMirror;
+    default: return OIIO::ImageBuf::WrapPeriodic;
   }
 }
 
@@ -88,7 +81,7 @@ inline int wrap_index(int i, int n, WrapMode w) {
 class CubicSampler {
  public:
   CubicSampler(const std::vector<float>& px, int w, int h, int nch, WrapMode ws, WrapMode wt)
-      : px_(px), w_(w), h_(h), nch_(nch), ws_(ws), wt_(wt),
+      : px_(px), w_(w), h_(h), nch_(nch), ws_(to_imagebuf_wrap(ws)), wt_(to_imagebuf_wrap(wt)),
         kernel_(OIIO::Filter1D::create("catmull-rom", 4.0f), &OIIO::Filter1D::destroy) {}
 
   void sample(float s, float t, float* out) const {
@@ -104,11 +97,11 @@ class CubicSampler {
     }
     for (int k = 0; k < 4; ++k) wx[k] /= sx, wy[k] /= sy;
     int cx[4];
-    for (int k = 0; k < 4; ++k) cx[k] = wrap_index(ix + k - 1, w_, ws_);
+    for (int k = 0; k < 4; ++k) cx[k] = wrap_texel_index(ix + k - 1, w_, ws_);
     float acc[4] = {0, 0, 0, 0};
     float lo[4] = {1e30f, 1e30f, 1e30f, 1e30f}, hi[4] = {-1e30f, -1e30f, -1e30f, -1e30f};
     for (int j = 0; j < 4; ++j) {
-      const float* row = &px_[size_t(wrap_index(iy + j - 1, h_, wt_)) * w_ * nch_];
+      const float* row = &px_[size_t(wrap_texel_index(iy + j - 1, h_, wt_)) * w_ * nch_];
       for (int i = 0; i < 4; ++i) {
         const float wgt = wx[i] * wy[j];
         const float* p = row + size_t(cx[i]) * nch_;
@@ -127,7 +120,7 @@ class CubicSampler {
  private:
   const std::vector<float>& px_;
   int w_, h_, nch_;
-  WrapMode ws_, wt_;
+  OIIO::ImageBuf::WrapMode ws_, wt_;
   std::unique_ptr<OIIO::Filter1D, void (*)(OIIO::Filter1D*)> kernel_;
 };
 

@@ -126,17 +126,26 @@ void write_primitive_plain(tinygltf::Model& model, tinygltf::Primitive& prim, co
   prim.extensions.erase(kDracoExtension);
 }
 
-std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
-                                  const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
-                                  size_t& draco_bytes) {
-  // Draco quantizes over each attribute's range: one NaN or infinity makes
-  // every value garbage (and its float-to-int casts undefined).
+size_t plain_geometry_bytes(const PrimitiveGeometry& geom) {
+  size_t bytes = geom.triangles.size() * (geom.vertex_count() <= 0xFFFF ? 2 : 4);
+  for (const auto& a : geom.attributes) bytes += a.data.size();
+  return bytes;
+}
+
+std::string non_finite_attribute(const PrimitiveGeometry& geom) {
   for (const auto& a : geom.attributes) {
     if (a.component_type != TINYGLTF_COMPONENT_TYPE_FLOAT) continue;
     for (size_t e = 0; e < a.count(); ++e)
       for (int i = 0; i < a.components; ++i)
         if (!std::isfinite(a.get(e, i))) return "attribute " + a.semantic + " holds a NaN or infinite value";
   }
+  return "";
+}
+
+std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
+                                  const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
+                                  size_t& draco_bytes) {
+  if (std::string err = non_finite_attribute(geom); !err.empty()) return err;
   DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options);
   if (!enc.error.empty()) return enc.error;
   // Decode our own bytes: the decoder's mesh (order, quantized values) is the

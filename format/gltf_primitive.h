@@ -37,6 +37,14 @@ std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primiti
 // (mode becomes TRIANGLES). Old accessor ids are appended to `replaced`.
 void write_primitive_plain(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
                            std::vector<int>& replaced);
+// Bytes write_primitive_plain stores: every attribute, and the indices as
+// uint16 when the vertices fit, else uint32.
+size_t plain_geometry_bytes(const PrimitiveGeometry& geom);
+
+// "" when every float attribute is finite, else a one-line error naming the
+// attribute (Draco quantizes over each attribute's range: one NaN or infinity
+// makes every value garbage, and its float-to-int casts undefined).
+std::string non_finite_attribute(const PrimitiveGeometry& geom);
 
 // Encodes with Draco and points the primitive at the compressed bufferView;
 // the accessors keep type and count but no bufferView, as the extension

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "codec/layout.h"
 #include "format/range_coder.h"
 
 namespace gltfwarp {
@@ -508,16 +509,11 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
 
   out.placements.assign(out.patch_count, PatchPlacement{});
   out.seeds.clear();
-  // Seeds: the rank-th face of each patch in ascending order; patch_faces
-  // (faces per patch, then a running start) and face_list are sized by nf.
+  // Seeds: the rank-th face of each patch in ascending order (sized by nf;
+  // every patch id is < patch_count after the partition section).
   std::vector<uint32_t> patch_start, face_list;
   if (info.flags & kUvFlagSeeds) {
-    patch_start.assign(size_t{out.patch_count} + 1, 0);
-    for (uint32_t f = 0; f < nf; ++f) ++patch_start[out.patch_of_face[f] + 1];
-    for (uint32_t p = 0; p < out.patch_count; ++p) patch_start[p + 1] += patch_start[p];
-    face_list.resize(nf);
-    std::vector<uint32_t> fill(patch_start.begin(), patch_start.end() - 1);
-    for (uint32_t f = 0; f < nf; ++f) face_list[fill[out.patch_of_face[f]]++] = f;
+    faces_by_patch(out.patch_of_face, out.patch_count, patch_start, face_list);
     out.seeds.assign(out.patch_count, 0);
   }
   {
