@@ -35,17 +35,30 @@ std::string output_mime(std::span<const uint8_t> source, const std::string& want
   return sniff_image_codec(source) == ImageCodec::jpeg ? "image/jpeg" : "image/png";
 }
 
-// Encodes a warped atlas. With "keep", an indexed PNG source gives an indexed
-// PNG with the source's palette (png_palette.h); normal maps are re-expressed
-// in new frames, so their texels leave the palette and stay truecolour.
-std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const uint8_t> source, const std::string& mime,
-                         int quality, bool normal_map, const std::string& wanted, std::vector<uint8_t>& bytes) {
+// The palette a warped atlas is written with, or empty for truecolour.
+// "PNG stays PNG" keeps a source's indexed storage too: an indexed source
+// gives its own palette, and a truecolour source drawn from few colours
+// (flat-shaded art) gives its most frequent ones (dominant_colours). The
+// warp's filtered edges would otherwise bring hundreds of new colours:
+// Fox's atlas 31.7 -> 18.9 KB against its 26.8 KB source. Normal maps are
+// re-expressed in new frames, so their texels leave any palette.
+std::vector<PaletteEntry> atlas_palette(const OIIO::ImageBuf& atlas, std::span<const uint8_t> source_bytes,
+                                        const OIIO::ImageBuf& source, const std::string& mime, bool normal_map,
+                                        const std::string& wanted) {
   const OIIO::ImageSpec& spec = atlas.spec();
-  if (mime == "image/png" && wanted == "keep" && !normal_map && spec.format == OIIO::TypeDesc::UINT8 &&
-      spec.nchannels >= 3) {
-    const std::vector<PaletteEntry> palette = png_palette(source);
-    if (!palette.empty()) return encode_indexed_png(atlas, palette, bytes);
-  }
+  if (mime != "image/png" || wanted != "keep" || normal_map || spec.format != OIIO::TypeDesc::UINT8 ||
+      spec.nchannels < 3)
+    return {};
+  std::vector<PaletteEntry> palette = png_palette(source_bytes);
+  if (palette.empty()) palette = dominant_colours(source);
+  return palette;
+}
+
+// Encodes a warped atlas: indexed with `palette` when it has entries (the
+// atlas is then already snapped to it), else in its output format.
+std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette, const std::string& mime,
+                         int quality, std::vector<uint8_t>& bytes) {
+  if (!palette.empty()) return encode_indexed_png(atlas, palette, bytes);
   std::string err;
   encode_image(atlas, mime, quality, bytes, err);
   return err;
@@ -284,6 +297,14 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
       if (ws != WarpStatus::ok)
         return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
+      WarpJob job;
+      job.key = key;
+      job.image = image;
+      job.mime = output_mime(model.images[image].image, options.image_format);
+      // Snapped before the quality check, so that it measures the texels the file will hold.
+      const std::vector<PaletteEntry> palette =
+          atlas_palette(atlas, model.images[image].image, source, job.mime, slot.normal_map, options.image_format);
+      snap_to_palette(atlas, palette);
       if (!slot.normal_map) {
         // Normal maps change legitimately (new tangent frames): colour slots only.
         const bool srgb = slot.color_space == ColorSpace::srgb;
@@ -293,15 +314,10 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
                              {1, 0, 0, 0, 1, 0}, after);
         out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
       }
-      WarpJob job;
-      job.key = key;
-      job.image = image;
-      job.mime = output_mime(model.images[image].image, options.image_format);
       int quality = options.jpeg_quality;
       if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
       if (quality <= 0) quality = 90;
-      err = encode_atlas(atlas, model.images[image].image, job.mime, quality, slot.normal_map, options.image_format,
-                         job.bytes);
+      err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
       if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
       ar.source_image_bytes += model.images[image].image.size();
       ar.atlas_image_bytes += job.bytes.size();

@@ -3,6 +3,7 @@
 
 #include <png.h>
 
+#include <algorithm>
 #include <limits>
 #include <unordered_map>
 
@@ -45,6 +46,71 @@ std::vector<PaletteEntry> png_palette(std::span<const uint8_t> png) {
   return palette;
 }
 
+namespace {
+
+uint32_t colour_key(const uint8_t* t, int nch) {
+  const uint8_t a = nch == 4 ? t[3] : 255;
+  return uint32_t(t[0]) | uint32_t(t[1]) << 8 | uint32_t(t[2]) << 16 | uint32_t(a) << 24;
+}
+
+bool palette_image(const OIIO::ImageBuf& image) {
+  const OIIO::ImageSpec& spec = image.spec();
+  return image.initialized() && spec.format == OIIO::TypeDesc::UINT8 && spec.nchannels >= 3 &&
+         spec.nchannels <= 4 && spec.width > 0 && spec.height > 0;
+}
+
+}  // namespace
+
+std::vector<PaletteEntry> dominant_colours(const OIIO::ImageBuf& image, double min_share, size_t max_entries) {
+  if (!palette_image(image) || max_entries == 0) return {};
+  const OIIO::ImageSpec& spec = image.spec();
+  const int nch = spec.nchannels;
+  constexpr size_t kMaxDistinct = 65536;  // beyond this, not flat art (and the count stays cheap)
+  std::unordered_map<uint32_t, uint64_t> count;
+  std::vector<uint8_t> row(size_t(spec.width) * nch);
+  for (int y = 0; y < spec.height; ++y) {
+    const OIIO::ROI roi(spec.x, spec.x + spec.width, spec.y + y, spec.y + y + 1, 0, 1, 0, nch);
+    image.get_pixels(roi, OIIO::TypeDesc::UINT8, row.data());
+    for (int x = 0; x < spec.width; ++x) {
+      ++count[colour_key(&row[size_t(x) * nch], nch)];
+      if (count.size() > kMaxDistinct) return {};
+    }
+  }
+  std::vector<std::pair<uint64_t, uint32_t>> by_count;  // (count, colour), most frequent first
+  by_count.reserve(count.size());
+  for (const auto& [colour, n] : count) by_count.push_back({n, colour});
+  const size_t keep = std::min(max_entries, by_count.size());
+  // Ties broken by colour value, so the palette does not depend on hash order.
+  std::partial_sort(by_count.begin(), by_count.begin() + std::ptrdiff_t(keep), by_count.end(),
+                    [](const auto& l, const auto& r) { return l.first != r.first ? l.first > r.first : l.second < r.second; });
+  uint64_t covered = 0;
+  std::vector<PaletteEntry> palette(keep);
+  for (size_t i = 0; i < keep; ++i) {
+    covered += by_count[i].first;
+    const uint32_t c = by_count[i].second;
+    palette[i] = {uint8_t(c), uint8_t(c >> 8), uint8_t(c >> 16), uint8_t(c >> 24)};
+  }
+  const double texels = double(spec.width) * double(spec.height);
+  if (!(double(covered) >= min_share * texels)) return {};
+  return palette;
+}
+
+void snap_to_palette(OIIO::ImageBuf& image, std::span<const PaletteEntry> palette) {
+  if (!palette_image(image) || palette.empty()) return;
+  const std::vector<uint8_t> indices = palette_indices(image, palette);
+  const OIIO::ImageSpec& spec = image.spec();
+  const int nch = spec.nchannels;
+  std::vector<uint8_t> row(size_t(spec.width) * nch);
+  for (int y = 0; y < spec.height; ++y) {
+    for (int x = 0; x < spec.width; ++x) {
+      const PaletteEntry& e = palette[indices[size_t(y) * spec.width + x]];
+      std::copy_n(e.begin(), nch, &row[size_t(x) * nch]);
+    }
+    const OIIO::ROI roi(spec.x, spec.x + spec.width, spec.y + y, spec.y + y + 1, 0, 1, 0, nch);
+    image.set_pixels(roi, OIIO::TypeDesc::UINT8, row.data());
+  }
+}
+
 std::vector<uint8_t> palette_indices(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette) {
   const OIIO::ImageSpec& spec = image.spec();
   const int nch = spec.nchannels;
@@ -59,7 +125,7 @@ std::vector<uint8_t> palette_indices(const OIIO::ImageBuf& image, std::span<cons
     for (int x = 0; x < spec.width; ++x) {
       const uint8_t* t = &row[size_t(x) * nch];
       const uint8_t a = nch == 4 ? t[3] : 255;
-      const uint32_t key = uint32_t(t[0]) | uint32_t(t[1]) << 8 | uint32_t(t[2]) << 16 | uint32_t(a) << 24;
+      const uint32_t key = colour_key(t, nch);
       auto it = nearest.find(key);
       if (it == nearest.end()) {
         int best = 0, best_d = std::numeric_limits<int>::max();

@@ -33,6 +33,20 @@ std::vector<PaletteEntry> png_palette(std::span<const uint8_t> png);
 std::string encode_indexed_png(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette,
                                std::vector<uint8_t>& bytes);
 
+// The palette of flat-coloured art that is not stored indexed: the
+// `max_entries` most frequent colours of `image` (uint8, 3 or 4 channels),
+// most frequent first, when together they cover at least `min_share` of its
+// texels; empty otherwise (photographs, gradients, more than 65,536
+// distinct colours, other formats). Fox's truecolour texture: 5 colours
+// cover 99.5% of it, 256 cover 99.7%; every other corpus texture fails.
+std::vector<PaletteEntry> dominant_colours(const OIIO::ImageBuf& image, double min_share = 0.99,
+                                           size_t max_entries = 256);
+
+// Replaces every texel of `image` (uint8, 3 or 4 channels) by its nearest
+// palette entry: the image an indexed PNG written with `palette` decodes to,
+// so a quality check made after it measures what the viewer will show.
+void snap_to_palette(OIIO::ImageBuf& image, std::span<const PaletteEntry> palette);
+
 // The nearest-entry index of every texel, row-major (exposed for tests).
 std::vector<uint8_t> palette_indices(const OIIO::ImageBuf& image, std::span<const PaletteEntry> palette);
 

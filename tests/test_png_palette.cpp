@@ -70,5 +70,49 @@ TEST(PngPalette, TranslucentEntriesKeepTheirAlpha) {
   EXPECT_EQ(png_palette(bytes), pal);
 }
 
+TEST(PngPalette, FlatArtGivesItsMostFrequentColoursAndGradientsNone) {
+  // Five flat colours in stripes of unequal width, plus 1 texel in 400 of noise.
+  const int w = 200, h = 100;
+  OIIO::ImageBuf art(OIIO::ImageSpec(w, h, 3, OIIO::TypeDesc::UINT8));
+  auto* p = static_cast<uint8_t*>(art.localpixels());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t stripe = x < 80 ? 0 : x < 130 ? 1 : x < 165 ? 2 : x < 190 ? 3 : 4;
+      uint8_t* t = p + (size_t(y) * w + x) * 3;
+      std::copy_n(kPalette[stripe].begin(), 3, t);
+      if ((x * 7 + y * 13) % 400 == 0) t[0] = uint8_t(x), t[1] = uint8_t(y), t[2] = 77;
+    }
+  const std::vector<PaletteEntry> pal = dominant_colours(art, 0.99, 256);
+  ASSERT_GE(pal.size(), 5u);
+  for (size_t i = 0; i < 5; ++i) EXPECT_EQ(pal[i], kPalette[i]) << "most frequent first, entry " << i;
+  EXPECT_TRUE(dominant_colours(art, 0.99, 5).size() == 5) << "99.75% covered by the five";
+  EXPECT_TRUE(dominant_colours(art, 0.999, 5).empty()) << "the noise is more than 0.1%";
+
+  OIIO::ImageBuf ramp(OIIO::ImageSpec(256, 64, 3, OIIO::TypeDesc::UINT8));  // 16,384 colours, one texel each
+  auto* r = static_cast<uint8_t*>(ramp.localpixels());
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 256; ++x) r[(size_t(y) * 256 + x) * 3] = uint8_t(x), r[(size_t(y) * 256 + x) * 3 + 1] = uint8_t(y * 4);
+  EXPECT_TRUE(dominant_colours(ramp).empty());
+  EXPECT_TRUE(dominant_colours(OIIO::ImageBuf()).empty());
+}
+
+TEST(PngPalette, SnappedImageIsExactlyWhatTheIndexedPngDecodesTo) {
+  OIIO::ImageBuf img = rgb_image(41, 23, kPalette, 5);
+  snap_to_palette(img, kPalette);
+  const auto* s = static_cast<const uint8_t*>(img.localpixels());
+  for (size_t i = 0; i < size_t(41) * 23; ++i)
+    EXPECT_TRUE(std::any_of(kPalette.begin(), kPalette.end(),
+                            [&](const PaletteEntry& e) { return std::equal(e.begin(), e.begin() + 3, s + 3 * i); }))
+        << "texel " << i << " is not a palette colour";
+  std::vector<uint8_t> bytes;
+  ASSERT_EQ(encode_indexed_png(img, kPalette, bytes), "");
+  OIIO::ImageBuf dec;
+  std::string err;
+  ASSERT_TRUE(decode_image(bytes, dec, err)) << err;
+  std::vector<uint8_t> b(size_t(41) * 23 * 3);
+  dec.get_pixels(dec.roi(), OIIO::TypeDesc::UINT8, b.data());
+  EXPECT_EQ(0, std::memcmp(s, b.data(), b.size()));
+}
+
 }  // namespace
 }  // namespace gltfwarp
