@@ -53,6 +53,10 @@ Runner add_encode(CLI::App& app) {
                  "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
                  "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
+  app.add_option("--goal-psnr", a->opt.goal_psnr,
+                 "Quality goal in dB of the adaptive density: while the atlas is no larger than the source images "
+                 "it replaces, texels are not halved below it; 0: trade quality for bytes down to --min-psnr")
+      ->default_val(40.0)->check(CLI::Range(0.0, 99.0));
   app.add_flag("--fixed-density", a->fixed_density,
                "Keep every patch at its measured density (default: patches whose content is smooth have their "
                "texels halved, up to six times, while the atlas keeps --min-psnr plus 0.5 dB)");

@@ -441,7 +441,8 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // every patch at two scale steps less than now (half its texels), then
 // gives the smaller scale to the patches that buy the most texels for the
 // least added error, while the group's error stays under the floor (plus
-// half a dB of margin). A round's result is kept only if its own
+// half a dB of margin), and while the images are already no larger than
+// their sources, above the quality goal too (or where it is, if below). A round's result is kept only if its own
 // measurement holds the floor and its images are smaller; otherwise the
 // previous atlas is rebuilt and the search stops.
 std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
@@ -449,9 +450,15 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
   constexpr int32_t kStep = -2;
   std::vector<std::vector<int32_t>> bias(group.members.size());
   for (size_t k = 0; k < group.members.size(); ++k) bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
-  const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, (min_psnr + 0.5) / 10.0);
+  const size_t source_bytes = replaceable_source_bytes(model, group, built);
   bool plan_follows_built = true;  // the plan's UVs are those of the last build
   for (int round = 0; round < options.adaptive_rounds; ++round) {
+    // Images already within their sources' bytes give up no quality below
+    // the goal: an atlas under it stays as it is, one above it goes no lower.
+    double target = min_psnr + 0.5;
+    if (built.report.atlas_image_bytes <= source_bytes)
+      target = std::max(target, std::min(options.goal_psnr, built.error.psnr()));
+    const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, target / 10.0);
     std::vector<std::vector<int32_t>> all_down = bias;
     for (auto& b : all_down)
       for (int32_t& step : b) step += kStep;

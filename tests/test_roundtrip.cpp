@@ -291,3 +291,42 @@ TEST(CorpusRoundTrip, AdaptiveDensitySpendsHeadroomOnSmoothPatches) {
   std::printf("Duck atlas: %zu bytes fixed density, %zu adaptive\n", bytes[0], bytes[1]);
   EXPECT_LT(double(bytes[1]), 0.85 * double(bytes[0]));
 }
+
+// The Fox's flat-coloured atlas is already smaller than its source at its
+// measured density (39.6 dB): the quality goal keeps it there, while without
+// the goal the adaptive density trades it down towards the 38 dB floor.
+TEST(CorpusRoundTrip, QualityGoalHoldsWhileImagesBeatTheirSources) {
+  GLTFWARP_REQUIRE_CORPUS();
+  const std::string path = corpus_path("Fox");
+  ASSERT_FALSE(path.empty());
+  struct Run {
+    double psnr = 0;
+    size_t bytes = 0, source = 0;
+  };
+  auto run = [&](bool adaptive, double goal) {
+    tinygltf::Model model;
+    EXPECT_TRUE(read_gltf(path, model).ok);
+    EncodeOptions o;
+    o.adaptive_density = adaptive;
+    o.goal_psnr = goal;
+    o.quality_fallback = false;
+    EncodeReport report;
+    EXPECT_EQ(encode_model(model, o, report), "");
+    Run r;
+    if (report.atlases.size() != 1) return r;
+    r.psnr = report.atlases[0].psnr;
+    r.bytes = report.atlases[0].atlas_image_bytes;
+    r.source = report.atlases[0].source_image_bytes;
+    return r;
+  };
+  const Run fixed = run(false, 40), goal = run(true, 40), floor = run(true, 0);
+  std::printf("Fox atlas: fixed %zu B %.2f dB, goal 40 %zu B %.2f dB, no goal %zu B %.2f dB (source %zu B)\n",
+              fixed.bytes, fixed.psnr, goal.bytes, goal.psnr, floor.bytes, floor.psnr, fixed.source);
+  ASSERT_GT(fixed.bytes, 0u);
+  ASSERT_LE(fixed.bytes, fixed.source) << "precondition: the fixed-density atlas beats its source";
+  EXPECT_GE(goal.psnr, std::min(40.0, fixed.psnr) - 0.05);
+  EXPECT_LE(goal.bytes, fixed.source);
+  EXPECT_GE(floor.psnr, 38.0);
+  EXPECT_LT(floor.psnr, goal.psnr) << "without the goal, quality is traded for bytes";
+  EXPECT_LE(floor.bytes, goal.bytes);
+}
