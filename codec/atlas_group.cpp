@@ -35,23 +35,25 @@ std::string output_mime(std::span<const uint8_t> source, const std::string& want
   return sniff_image_codec(source) == ImageCodec::jpeg ? "image/jpeg" : "image/png";
 }
 
-// The palette a warped atlas is written with, or empty for truecolour.
-// "PNG stays PNG" keeps a source's indexed storage too: an indexed source
-// gives its own palette, and a truecolour source drawn from few colours
-// (flat-shaded art) gives its most frequent ones (dominant_colours). The
-// warp's filtered edges would otherwise bring hundreds of new colours:
-// Fox's atlas 31.7 -> 18.9 KB against its 26.8 KB source. Normal maps are
-// re-expressed in new frames, so their texels leave any palette.
-std::vector<PaletteEntry> atlas_palette(const OIIO::ImageBuf& atlas, std::span<const uint8_t> source_bytes,
-                                        const OIIO::ImageBuf& source, const std::string& mime, bool normal_map,
-                                        const std::string& wanted) {
-  const OIIO::ImageSpec& spec = atlas.spec();
-  if (mime != "image/png" || wanted != "keep" || normal_map || spec.format != OIIO::TypeDesc::UINT8 ||
-      spec.nchannels < 3)
-    return {};
+// The palette a warped atlas is written with. "PNG stays PNG" keeps a
+// source's indexed storage too: an indexed source gives its own palette,
+// and a truecolour source drawn from few colours (flat-shaded art) gives its
+// most frequent ones (dominant_colours). The warp's filtered edges would
+// otherwise bring hundreds of new colours: Fox's atlas 31.7 -> 18.9 KB
+// against its 26.8 KB source. Empty: truecolour.
+std::vector<PaletteEntry> source_palette(std::span<const uint8_t> source_bytes, const OIIO::ImageBuf& source) {
   std::vector<PaletteEntry> palette = png_palette(source_bytes);
   if (palette.empty()) palette = dominant_colours(source);
   return palette;
+}
+
+// Whether an atlas is written with its source's palette: PNG kept as PNG,
+// 8-bit colour, and not a normal map (its texels are re-expressed in new
+// frames, so they leave any palette).
+bool palette_applies(const OIIO::ImageBuf& atlas, const std::string& mime, bool normal_map, const std::string& wanted) {
+  const OIIO::ImageSpec& spec = atlas.spec();
+  return mime == "image/png" && wanted == "keep" && !normal_map && spec.format == OIIO::TypeDesc::UINT8 &&
+         spec.nchannels >= 3;
 }
 
 // Encodes a warped atlas: indexed with `palette` when it has entries (the
@@ -146,11 +148,22 @@ struct GroupAtlas {
 
 // Decoded source images by image index: a group's atlas is built up to five
 // times (density retries, adaptive rounds), its sources decoded once.
-using SourceImages = std::map<int, OIIO::ImageBuf>;
+// With each, what every build derives from it alone: its palette and its
+// sampler for the quality check (the truck: 12 builds, 0.15 s each).
+struct SourceImage {
+  OIIO::ImageBuf pixels;
+  bool palette_known = false;
+  std::vector<PaletteEntry> palette;  // source_palette
+  std::map<JobKey, TextureSampler> samplers;
+};
+using SourceImages = std::map<int, SourceImage>;
 
+// measure_only: the build only measures each patch's texels and error (an
+// adaptive round's trial): one packing order, no normal maps, no image coding.
 std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                               const EncodeOptions& options, SourceImages& sources, double density_factor,
-                              const std::vector<std::vector<int32_t>>& step_bias, GroupAtlas& out) {
+                              const std::vector<std::vector<int32_t>>& step_bias, GroupAtlas& out,
+                              bool measure_only = false) {
   out = GroupAtlas{};
   // Patches numbered across the group's members, for per-patch errors.
   std::vector<std::vector<uint32_t>> group_patch(group.members.size());
@@ -202,6 +215,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
   po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
   po.max_atlas_size = options.max_atlas_size;
   po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
+  // A measurement needs each patch's texels and error, not the tightest page.
+  if (measure_only) po.multi_order_max_patches = 0;
   PackResult packed;
   const PackStatus ps = pack_atlas(pp, po, packed);
   if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
@@ -249,11 +264,13 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       if (std::any_of(out.jobs.begin(), out.jobs.end(), [&](const WarpJob& j) { return j.key == key; })) continue;
       std::string err;
       auto [found, fresh] = sources.try_emplace(image);
-      if (fresh && !decode_image(model.images[image].image, found->second, err)) {
+      if (fresh && !decode_image(model.images[image].image, found->second.pixels, err)) {
         sources.erase(found);
         return "image " + std::to_string(image) + ": " + err;
       }
-      const OIIO::ImageBuf& source = found->second;
+      SourceImage& cached = found->second;
+      const OIIO::ImageBuf& source = cached.pixels;
+      if (measure_only && slot.normal_map) continue;  // measured on colour slots only
       WarpOptions wo;
       wo.encoding = slot.normal_map ? SlotEncoding::normal
                                     : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
@@ -302,14 +319,21 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       job.image = image;
       job.mime = output_mime(model.images[image].image, options.image_format);
       // Snapped before the quality check, so that it measures the texels the file will hold.
-      const std::vector<PaletteEntry> palette =
-          atlas_palette(atlas, model.images[image].image, source, job.mime, slot.normal_map, options.image_format);
+      if (!cached.palette_known) {
+        cached.palette = source_palette(model.images[image].image, source);
+        cached.palette_known = true;
+      }
+      const std::span<const PaletteEntry> palette =
+          palette_applies(atlas, job.mime, slot.normal_map, options.image_format) ? std::span<const PaletteEntry>(cached.palette)
+                                                                                   : std::span<const PaletteEntry>();
       snap_to_palette(atlas, palette);
       if (!slot.normal_map) {
         // Normal maps change legitimately (new tangent frames): colour slots only.
         const bool srgb = slot.color_space == ColorSpace::srgb;
-        TextureSampler before, after;
-        load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, before);
+        auto [sit, fresh_sampler] = cached.samplers.try_emplace(key);
+        if (fresh_sampler) load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, sit->second);
+        const TextureSampler& before = sit->second;
+        TextureSampler after;
         load_texture_sampler(atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
                              {1, 0, 0, 0, 1, 0}, after);
         out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
@@ -317,7 +341,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       int quality = options.jpeg_quality;
       if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
       if (quality <= 0) quality = 90;
-      err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
+      if (!measure_only) err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
       if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
       ar.source_image_bytes += model.images[image].image.size();
       ar.atlas_image_bytes += job.bytes.size();
@@ -463,7 +487,7 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
     for (auto& b : all_down)
       for (int32_t& step : b) step += kStep;
     GroupAtlas down;
-    std::string err = build_group_atlas(model, plan, group, options, sources, factor, all_down, down);
+    std::string err = build_group_atlas(model, plan, group, options, sources, factor, all_down, down, true);
     if (!err.empty()) return err;
     plan_follows_built = false;
     if (down.capped || down.patch_error.size() != built.patch_error.size()) break;

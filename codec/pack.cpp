@@ -2,10 +2,12 @@
 #include "codec/pack.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cmath>
 #include <numeric>
+#include <thread>
 
 #include "codec/geometry2d.h"
 #include "format/decode_uvs.h"
@@ -274,13 +276,13 @@ struct Page {
 
 // Drops every patch (in order) onto the lowest-waste skyline position of the
 // first page where it fits. Returns false when max_pages would be exceeded.
-bool skyline_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
+bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
                   int hc_max, uint32_t max_pages, std::vector<Placed>& placed,
                   std::vector<Page>& pages) {
   pages.clear();
   placed.assign(patches.size(), Placed{});
   for (uint32_t pi : order) {
-    PatchInfo& p = patches[pi];
+    const PatchInfo& p = patches[pi];
     bool done = false;
     for (size_t pg = 0; pg <= pages.size() && !done; ++pg) {
       if (pg == pages.size()) {
@@ -327,14 +329,14 @@ bool skyline_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& 
 // Bottom-left-fill on a cell bitmap: every patch goes to the lowest, then
 // leftmost, position (over its turns) where its true footprint fits, so small
 // patches fill the holes that larger ones leave.
-bool bitmap_pack(std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
+bool bitmap_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
                  int hc_max, uint32_t max_pages, int search_depth, std::vector<Placed>& placed,
                  std::vector<Page>& pages) {
   std::vector<Bitmap> maps;
   pages.clear();
   placed.assign(patches.size(), Placed{});
   for (uint32_t pi : order) {
-    PatchInfo& p = patches[pi];
+    const PatchInfo& p = patches[pi];
     bool done = false;
     for (size_t pg = 0; pg <= maps.size() && !done; ++pg) {
       if (pg == maps.size()) {
@@ -593,8 +595,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
   double scale = double(float(options.texel_scale));
   std::vector<double> q;
   std::vector<uint8_t> bits, tmp;
-  std::vector<Placed> placed;
-  std::vector<Page> pages;
   const uint32_t max_size = options.max_atlas_size;
   for (uint32_t attempt = 0; attempt <= options.max_retries; ++attempt) {
     // Rough footprint at this scale (triangle area plus the dilated bounding
@@ -657,28 +657,10 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     if (options.max_pages > 1 && std::find(widths.begin(), widths.end(), max_size) == widths.end())
       widths.push_back(max_size);
-    uint64_t best_area = UINT64_MAX;
-    uint32_t best_w = 0, best_h = 0, best_pages = 0;
-    std::vector<Placed> best_placed;
-    auto try_width = [&](uint32_t w, bool bitmap) -> uint64_t {
-      const int wc = int(w) / cell;
-      const bool fits = bitmap ? bitmap_pack(patches, order, wc, hc_max, options.max_pages,
-                                             int(options.search_depth), placed, pages)
-                               : skyline_pack(patches, order, wc, hc_max, options.max_pages, placed, pages);
-      if (!fits) return UINT64_MAX;
-      int hc = 0;
-      for (const Page& pg : pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
-      const uint32_t h = round_size(uint64_t(hc) * cell, options.rounding);
-      if (h > max_size) return UINT64_MAX;
-      const uint64_t area = uint64_t(w) * h * pages.size();
-      const bool squarer = area == best_area && std::max(w, h) < std::max(best_w, best_h);
-      if (area < best_area || squarer) {
-        best_area = area, best_w = w, best_h = h, best_pages = uint32_t(pages.size());
-        best_placed = placed;
-      }
-      return area;
-    };
-    for (uint32_t w : widths) try_width(w, options.method == PackMethod::bitmap);
+    // Every (order, width) trial is independent: they run side by side, and
+    // the best is chosen in trial order, so the result does not depend on
+    // the thread count.
+    std::vector<std::vector<uint32_t>> orders = {order};
     // Small sets: other orders (by area, by height) often interlock better.
     if (patches.size() <= options.multi_order_max_patches) {
       for (int variant = 0; variant < 2; ++variant) {
@@ -687,7 +669,57 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
           const Mask& mb = patches[b].masks[0];
           return variant == 0 ? ma.cells > mb.cells : std::min(ma.ch, ma.cw) > std::min(mb.ch, mb.cw);
         });
-        for (uint32_t w : widths) try_width(w, options.method == PackMethod::bitmap);
+        orders.push_back(order);
+      }
+    }
+    struct Trial {
+      const std::vector<uint32_t>* order = nullptr;
+      uint32_t w = 0, h = 0, pages = 0;
+      uint64_t area = UINT64_MAX;
+      std::vector<Placed> placed;
+    };
+    std::vector<Trial> trials;
+    for (const auto& o : orders)
+      for (uint32_t w : widths) {
+        trials.emplace_back();
+        trials.back().order = &o;
+        trials.back().w = w;
+      }
+    auto run_trial = [&](Trial& t) {
+      const int wc = int(t.w) / cell;
+      std::vector<Page> trial_pages;
+      const bool fits = options.method == PackMethod::bitmap
+                            ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages,
+                                          int(options.search_depth), t.placed, trial_pages)
+                            : skyline_pack(patches, *t.order, wc, hc_max, options.max_pages, t.placed, trial_pages);
+      if (!fits) return;
+      int hc = 0;
+      for (const Page& pg : trial_pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
+      t.h = round_size(uint64_t(hc) * cell, options.rounding);
+      if (t.h > max_size) return;
+      t.pages = uint32_t(trial_pages.size());
+      t.area = uint64_t(t.w) * t.h * t.pages;
+    };
+    {
+      std::atomic<size_t> next{0};
+      auto worker = [&] {
+        for (size_t i; (i = next.fetch_add(1)) < trials.size();) run_trial(trials[i]);
+      };
+      const size_t nthreads = std::min<size_t>(trials.size(), std::max(1u, std::thread::hardware_concurrency()));
+      std::vector<std::thread> pool;
+      for (size_t i = 1; i < nthreads; ++i) pool.emplace_back(worker);
+      worker();
+      for (std::thread& th : pool) th.join();
+    }
+    uint64_t best_area = UINT64_MAX;
+    uint32_t best_w = 0, best_h = 0, best_pages = 0;
+    std::vector<Placed> best_placed;
+    for (Trial& t : trials) {
+      if (t.area == UINT64_MAX) continue;
+      const bool squarer = t.area == best_area && std::max(t.w, t.h) < std::max(best_w, best_h);
+      if (t.area < best_area || squarer) {
+        best_area = t.area, best_w = t.w, best_h = t.h, best_pages = t.pages;
+        best_placed = std::move(t.placed);
       }
     }
     if (best_area == UINT64_MAX) {
