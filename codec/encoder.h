@@ -31,8 +31,9 @@ struct EncodeOptions {
   std::string image_format = "keep";  // keep | png | jpeg
   int jpeg_quality = 0;           // JPEG output quality; 0 = match the source JPEG (90 for others)
   // Quality floor of every warped atlas (surface PSNR against the source,
-  // dB, colour slots, before image compression; warp_quality.h). -1: 38 with
-  // the default auto density, off when a density or factor was chosen; 0: off.
+  // dB, colour slots, of the texels the file will hold: after palette
+  // snapping and JPEG coding; warp_quality.h). -1: 38 with the default auto
+  // density, off when a density or factor was chosen; 0: off.
   // Below it, the density goes up by each of density_boosts in turn; still
   // below, the group keeps explicit UVs (unless quality_fallback is false).
   double min_psnr = -1;
