@@ -17,7 +17,7 @@ Runner add_encode(CLI::App& app) {
         texel_budget = "count";
     EncodeOptions opt;
     bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false,
-         cross_source_seams = false;
+         cross_source_seams = false, keep_hidden_seams = false;
   };
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
@@ -30,8 +30,11 @@ Runner add_encode(CLI::App& app) {
                "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
                "beside ours (not used for the output)");
   app.add_flag("--cross-source-seams", a->cross_source_seams,
-               "Let patches cross the source's UV seams (fewer seams; the viewer then blends the two source regions "
-               "along each crossed seam, which costs quality or texels)");
+               "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
+               "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
+               "textures hide (the same colours on both sides)");
+  app.add_flag("--keep-hidden-seams", a->keep_hidden_seams,
+               "Keep patches inside the source's UV charts even across seams the textures hide");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
       ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
   app.add_option("--texel-density", a->texel_density,
@@ -74,6 +77,7 @@ Runner add_encode(CLI::App& app) {
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
     opt.keep_source_charts = !a->cross_source_seams;
+    opt.cross_hidden_seams = !a->keep_hidden_seams;
     opt.implicit_uvs = !a->explicit_uvs;
     opt.quality_fallback = !a->always_implicit;
     opt.adaptive_density = !a->fixed_density;

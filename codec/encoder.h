@@ -21,7 +21,8 @@ struct EncodeOptions {
   double tau = 1.3;               // distortion bound of every triangle
   bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
   bool report_greedy = false;     // also run greedy on each primitive and report its figures
-  bool keep_source_charts = true; // compact: no patch crosses a source UV seam (source_charts.h)
+  bool keep_source_charts = true; // compact: no patch crosses a source UV seam (source_charts.h) ...
+  bool cross_hidden_seams = true; // ... unless the textures agree across it (seam_continuity.h)
   double texel_density = 0;       // texels per model unit; 0 = measured from the source (below)
   DensityMode texel_budget = DensityMode::preserve_texel_count;  // how "measured" counts source texels
   double texel_density_factor = 1.0;  // multiplies the measured density (e.g. 0.5 for half the detail)

@@ -8,7 +8,9 @@
 #include "codec/corner_match.h"
 #include "codec/embed.h"
 #include "codec/embedding_mesh.h"
+#include "codec/seam_continuity.h"
 #include "codec/source_charts.h"
+#include "codec/texture_sampler.h"
 #include "codec/image_io.h"
 #include "codec/pack.h"
 #include "codec/texel_density.h"
@@ -67,6 +69,27 @@ std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, Implici
 
 
 }  // namespace
+
+// The material's TEXCOORD_0 textures as a viewer samples them; empty when
+// one cannot be read (the seam test then hides no seam).
+std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, int material) {
+  std::vector<TextureSampler> out;
+  for (const TextureSlot& slot : texture_slots(model, material)) {
+    if (slot.tex_coord != 0) continue;
+    const int image = texture_image(model, slot.texture);
+    if (image < 0) return {};
+    const int sampler = model.textures[slot.texture].sampler;
+    int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
+    if (sampler >= 0 && size_t(sampler) < model.samplers.size())
+      wrap_s = model.samplers[sampler].wrapS, wrap_t = model.samplers[sampler].wrapT;
+    TextureSampler t;
+    if (!load_texture_sampler(model.images[image].image, slot.color_space == ColorSpace::srgb, wrap_s, wrap_t,
+                              slot.transform, t).empty())
+      return {};
+    out.push_back(std::move(t));
+  }
+  return out;
+}
 
 std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report) {
   // Images we can decode (others make their primitives keep explicit UVs).
@@ -253,7 +276,16 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
   eo.face_density = face_density;
   std::vector<uint32_t> face_chart;
-  if (options.keep_source_charts && image_w > 0) face_chart = source_charts(ip.tri, ip.source_uv);
+  if (options.keep_source_charts && image_w > 0) {
+    // Seams the source's own textures hide do not bound charts. Measured
+    // (seams, images, dB): Duck 557 -> 516, 6.8 -> 6.5 KB, 41.7 -> 41.1;
+    // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
+    // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
+    // to 8/32: the seams crossed are ones where both sides show one colour.
+    std::vector<TextureSampler> textures;
+    if (options.cross_hidden_seams) textures = uv0_samplers(model, prim.material);
+    face_chart = source_charts(ip.tri, ip.source_uv, textures.empty() ? SeamTest() : texture_seam_test(textures));
+  }
   eo.face_chart = face_chart;
   // Inside one source chart densities rarely jump (artists give detail its
   // own chart), so the density rule only guards the extreme cases there.

@@ -6,7 +6,7 @@
 
 namespace gltfwarp {
 
-std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv) {
+std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv, const SeamTest& seamless) {
   const uint32_t nf = mesh.face_count();
   if (source_uv.size() != size_t{nf} * 6) return std::vector<uint32_t>(nf, 0);
   const VertexFaces vf = build_vertex_faces(mesh);
@@ -21,7 +21,7 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
   auto uv_at = [&](uint32_t f, uint32_t v) {
     const uint32_t* t = &mesh.indices[3 * size_t{f}];
     const size_t c = 3 * size_t{f} + (t[0] == v ? 0 : t[1] == v ? 1 : 2);
-    return std::pair<float, float>{source_uv[2 * c], source_uv[2 * c + 1]};
+    return Uv{source_uv[2 * c], source_uv[2 * c + 1]};
   };
   for (size_t c = 0; c < opp.size(); ++c) {
     const uint32_t o = opp[c];
@@ -29,7 +29,8 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
     const uint32_t f = uint32_t(c / 3), g = o / 3;
     const uint32_t k = uint32_t(c % 3);
     const uint32_t va = mesh.indices[3 * size_t{f} + (k + 1) % 3], vb = mesh.indices[3 * size_t{f} + (k + 2) % 3];
-    if (uv_at(f, va) == uv_at(g, va) && uv_at(f, vb) == uv_at(g, vb)) {
+    const Uv fa = uv_at(f, va), fb = uv_at(f, vb), ga = uv_at(g, va), gb = uv_at(g, vb);
+    if ((fa == ga && fb == gb) || (seamless && seamless(fa, fb, ga, gb))) {
       const uint32_t rf = find(f), rg = find(g);
       if (rf != rg) parent[std::max(rf, rg)] = std::min(rf, rg);
     }

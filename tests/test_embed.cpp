@@ -14,6 +14,7 @@
 #include "codec/embed.h"
 #include "codec/embedding_mesh.h"
 #include "codec/geometry2d.h"
+#include "codec/seam_continuity.h"
 #include "codec/shapes.h"
 #include "codec/source_charts.h"
 #include "codec/texel_density.h"
@@ -359,6 +360,39 @@ TEST(Embed, PatchesStayInsideSourceCharts) {
   expect_guarantees(m, both, opt.tau);
   EXPECT_LE(worst_patch_density_ratio(both, density), opt.max_density_ratio * (1 + 1e-9));
   one_chart_per_patch(both);
+}
+
+// A seam the texture hides (the same colours on both sides) does not bound
+// a chart; one where the two sides differ does. The plane's right half is
+// moved by half the texture: a flat texture hides that seam, a ramp in u
+// (0.5 apart across it) does not.
+TEST(Embed, HiddenSourceSeamsJoinCharts) {
+  const ShapeMesh plane = make_plane(30, 20);
+  const TriMesh& m = plane.mesh;
+  const std::vector<float> uv = half_plane_uvs(m, 0.4, 1.0, 0.5);
+  auto sampler_of = [](bool ramp) {
+    OIIO::ImageBuf img(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
+    auto* p = static_cast<uint8_t*>(img.localpixels());
+    for (int y = 0; y < 64; ++y)
+      for (int x = 0; x < 64; ++x)
+        for (int c = 0; c < 3; ++c) p[(size_t(y) * 64 + x) * 3 + c] = ramp ? uint8_t(x * 4) : 90;
+    std::vector<TextureSampler> t(1);
+    load_texture_sampler(img, false, 10497, 10497, {1, 0, 0, 0, 1, 0}, t[0]);
+    return t;
+  };
+  const auto flat = sampler_of(false), ramp = sampler_of(true);
+  const std::vector<uint32_t> kept = source_charts(m, uv);
+  const std::vector<uint32_t> hidden = source_charts(m, uv, texture_seam_test(flat));
+  const std::vector<uint32_t> shown = source_charts(m, uv, texture_seam_test(ramp));
+  EXPECT_EQ(*std::max_element(kept.begin(), kept.end()), 1u);
+  EXPECT_EQ(*std::max_element(hidden.begin(), hidden.end()), 0u) << "a flat texture hides the seam";
+  EXPECT_EQ(shown, kept) << "a ramp shows it";
+  // The test itself: equal colours pass, a step of 30 levels does not, nor does an unreadable texture.
+  const SeamTest on_ramp = texture_seam_test(ramp);
+  EXPECT_TRUE(on_ramp({0.25f, 0.1f}, {0.25f, 0.9f}, {0.25f, 0.3f}, {0.25f, 0.7f})) << "same u, same colour";
+  EXPECT_FALSE(on_ramp({0.25f, 0.1f}, {0.25f, 0.9f}, {0.37f, 0.1f}, {0.37f, 0.9f}));
+  const std::vector<TextureSampler> none(1);
+  EXPECT_FALSE(texture_seam_test(none)({0, 0}, {1, 0}, {0, 0}, {1, 0}));
 }
 
 // The rule holds on every shape for a density that varies smoothly over
