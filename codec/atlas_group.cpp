@@ -554,6 +554,8 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
 
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                 std::vector<int>& replaced, EncodeReport& report) {
+  plan.seam_textures.clear();  // the partitions are made
+  plan.seam_material = -1;
   int clamp_sampler = -1;
   std::vector<int> retired_textures;  // source textures the atlases replaced
   const bool auto_density = !(options.texel_density > 0);

@@ -282,9 +282,12 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
     // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
     // to 8/32: the seams crossed are ones where both sides show one colour.
-    std::vector<TextureSampler> textures;
-    if (options.cross_hidden_seams) textures = uv0_samplers(model, prim.material);
-    face_chart = source_charts(ip.tri, ip.source_uv, textures.empty() ? SeamTest() : texture_seam_test(textures));
+    if (options.cross_hidden_seams && plan.seam_material != prim.material) {
+      plan.seam_textures = uv0_samplers(model, prim.material);
+      plan.seam_material = prim.material;
+    }
+    const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
+    face_chart = source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());
   }
   eo.face_chart = face_chart;
   // Inside one source chart densities rarely jump (artists give detail its

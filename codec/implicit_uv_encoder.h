@@ -12,6 +12,7 @@
 
 #include "codec/encoder.h"
 #include "codec/mesh.h"
+#include "codec/texture_sampler.h"
 #include "format/gltf_primitive.h"
 
 namespace gltfwarp {
@@ -43,6 +44,11 @@ struct ImplicitPlan {
   std::map<std::pair<int, int>, int> group_of;  // (mesh, primitive) -> group
   std::vector<AtlasGroup> groups;
   std::vector<ImplicitPrimitive> prims;
+  // The seam test's textures (seam_continuity.h) of the last material
+  // prepared: primitives of one material usually come together, so each
+  // material's textures are read once and only one material's are held.
+  int seam_material = -1;
+  std::vector<TextureSampler> seam_textures;
   bool is_implicit(int mesh, int primitive) const { return group_of.count({mesh, primitive}) > 0; }
 };
 
