@@ -128,6 +128,19 @@ std::string corpus_path(const std::string& name) {
   return {};
 }
 
+// Encodes the corpus model `name` in process; its report must hold exactly
+// one atlas (the models these tests use have one textured material).
+::testing::AssertionResult encode_corpus(const std::string& name, const EncodeOptions& options, EncodeReport& report) {
+  const std::string path = corpus_path(name);
+  if (path.empty()) return ::testing::AssertionFailure() << name << " is not in the corpus";
+  tinygltf::Model model;
+  if (!read_gltf(path, model).ok) return ::testing::AssertionFailure() << "cannot read " << path;
+  const std::string err = encode_model(model, options, report);
+  if (!err.empty()) return ::testing::AssertionFailure() << err;
+  if (report.atlases.size() != 1) return ::testing::AssertionFailure() << report.atlases.size() << " atlases";
+  return ::testing::AssertionSuccess();
+}
+
 }  // namespace
 
 class CorpusRoundTrip : public ::testing::TestWithParam<std::string> {};
@@ -273,18 +286,13 @@ TEST(CorpusRoundTrip, NormalMappedModelIsLitAlike) {
 // smaller with adaptive density than without, and still measures >= 38 dB.
 TEST(CorpusRoundTrip, AdaptiveDensitySpendsHeadroomOnSmoothPatches) {
   GLTFWARP_REQUIRE_CORPUS();
-  const std::string path = corpus_path("Duck");
-  ASSERT_FALSE(path.empty());
   size_t bytes[2] = {0, 0};
   for (const bool adaptive : {false, true}) {
-    tinygltf::Model model;
-    ASSERT_TRUE(read_gltf(path, model).ok);
     EncodeOptions o;
     o.adaptive_density = adaptive;
     o.quality_fallback = false;  // at fixed density the Duck's atlas outweighs explicit UVs (size fallback)
     EncodeReport report;
-    ASSERT_EQ(encode_model(model, o, report), "");
-    ASSERT_EQ(report.atlases.size(), 1u);
+    ASSERT_TRUE(encode_corpus("Duck", o, report));
     EXPECT_GE(report.atlases[0].psnr, 38.0);
     bytes[adaptive] = report.atlases[0].atlas_image_bytes;
   }
@@ -296,18 +304,13 @@ TEST(CorpusRoundTrip, AdaptiveDensitySpendsHeadroomOnSmoothPatches) {
 // seams by a fifth (176 -> 143) and the floor still holds.
 TEST(CorpusRoundTrip, HiddenSourceSeamsAreCrossed) {
   GLTFWARP_REQUIRE_CORPUS();
-  const std::string path = corpus_path("Fox");
-  ASSERT_FALSE(path.empty());
   size_t seams[2] = {0, 0};
   for (const bool cross : {false, true}) {
-    tinygltf::Model model;
-    ASSERT_TRUE(read_gltf(path, model).ok);
     EncodeOptions o;
     o.cross_hidden_seams = cross;
     o.quality_fallback = false;
     EncodeReport report;
-    ASSERT_EQ(encode_model(model, o, report), "");
-    ASSERT_EQ(report.atlases.size(), 1u);
+    ASSERT_TRUE(encode_corpus("Fox", o, report));
     EXPECT_GE(report.atlases[0].psnr, 38.0);
     for (const auto& pr : report.primitives) seams[cross] += pr.seam_edges;
   }
@@ -349,22 +352,18 @@ TEST(CorpusRoundTrip, ReportedQualityIsThatOfTheCodedImages) {
 // the goal the adaptive density trades it down towards the 38 dB floor.
 TEST(CorpusRoundTrip, QualityGoalHoldsWhileImagesBeatTheirSources) {
   GLTFWARP_REQUIRE_CORPUS();
-  const std::string path = corpus_path("Fox");
-  ASSERT_FALSE(path.empty());
   struct Run {
     double psnr = 0;
     size_t bytes = 0, source = 0;
   };
   auto run = [&](bool adaptive, double goal) {
-    tinygltf::Model model;
-    EXPECT_TRUE(read_gltf(path, model).ok);
     EncodeOptions o;
     o.adaptive_density = adaptive;
     o.goal_psnr = goal;
     o.quality_fallback = false;
     EncodeReport report;
-    EXPECT_EQ(encode_model(model, o, report), "");
     Run r;
+    EXPECT_TRUE(encode_corpus("Fox", o, report));
     if (report.atlases.size() != 1) return r;
     r.psnr = report.atlases[0].psnr;
     r.bytes = report.atlases[0].atlas_image_bytes;
