@@ -1,63 +1,57 @@
 // gltf-warp: encode glTF scenes without explicit texture coordinates.
-#include <cstdio>
-#include <exception>
-#include <map>
+//
+// This executable runs decode and info; the imaging verbs run in the module
+// it loads for them (commands.h says why).
+#include <dlfcn.h>
 #include <unistd.h>
+
+#include <cstring>
+#include <string>
 
 #include "apps/commands.h"
 
-namespace gltfwarp::cli {
+namespace {
 
-int fail(const std::string& message, int code) {
-  std::string line = message;
-  for (auto& c : line)
-    if (c == '\n') c = ' ';
-  std::fprintf(stderr, "gltf-warp: %s\n", line.c_str());
-  return code;
+using gltfwarp::cli::fail;
+
+// The directory of this executable ("" if unknown).
+std::string exe_dir() {
+  char buf[4096];
+  const ssize_t n = readlink("/proc/self/exe", buf, sizeof buf - 1);
+  if (n <= 0) return {};
+  std::string path(buf, size_t(n));
+  const size_t slash = path.rfind('/');
+  return slash == std::string::npos ? std::string() : path.substr(0, slash);
 }
 
-void progress(const std::string& stage, double fraction) {
-  if (!isatty(2)) return;
-  std::fprintf(stderr, "\r%-10s %3d%%", stage.c_str(), static_cast<int>(fraction * 100));
-  std::fflush(stderr);
+// Beside the executable (the build tree), else in the installed library directory.
+int run_imaging_module(int argc, char** argv) {
+  const std::string dir = exe_dir();
+  const std::string beside = dir + "/libgltf-warp-imaging.so";
+  const std::string installed = dir + "/../" GLTFWARP_INSTALL_LIBDIR "/libgltf-warp-imaging.so";
+  const std::string path = access(beside.c_str(), R_OK) == 0 ? beside : installed;
+  void* module = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
+  if (!module) {
+    const char* why = dlerror();
+    return fail("cannot load the imaging module (" + path + "): " + (why ? why : "unknown error"));
+  }
+  using Entry = int (*)(int, char**);
+  auto entry = reinterpret_cast<Entry>(dlsym(module, "gltfwarp_imaging_main"));
+  if (!entry) return fail("the imaging module " + path + " has no entry point");
+  return entry(argc, argv);  // the module stays loaded until exit
 }
 
-void progress_done() {
-  if (isatty(2)) std::fprintf(stderr, "\r%-16s\r", "");
-}
-
-}  // namespace gltfwarp::cli
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace gltfwarp::cli;
+  for (const char* verb : {"encode", "sample", "compare"})
+    if (argc >= 2 && std::strcmp(argv[1], verb) == 0) return run_imaging_module(argc, argv);
+  std::vector<Verb> verbs = all_verbs();
+  for (Verb& v : verbs) {
+    if (std::strcmp(v.name, "decode") == 0) v.add = add_decode;
+    if (std::strcmp(v.name, "info") == 0) v.add = add_info;
+  }
   CLI::App app{"gltf-warp: glTF 2.0 codec that stores textured meshes without explicit texture coordinates"};
-  app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("gltf-warp 0.1.0"));
-  std::map<CLI::App*, Runner> runners;
-  auto add = [&](const char* name, const char* help, Runner (*fn)(CLI::App&)) {
-    CLI::App* sub = app.add_subcommand(name, help);
-    runners[sub] = fn(*sub);
-  };
-  add("encode", "Encode: drop TEXCOORD_0, write Draco geometry, the UV bitstream and warped textures", add_encode);
-  add("decode", "Decode: rebuild TEXCOORD_0 and write a standard glTF 2.0 file", add_decode);
-  add("info", "Per-primitive sizes, patches and bitstream sections of a glTF file", add_info);
-  add("sample", "Write a generated textured sample model (.glb or .gltf)", add_sample);
-  add("compare", "Surface colour PSNR between a scene and its decoded round trip", add_compare);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
-  } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
-  } catch (const CLI::ParseError& e) {
-    return fail(e.what(), 2);
-  }
-  try {
-    for (auto* sub : app.get_subcommands()) return runners.at(sub)();
-  } catch (const std::exception& e) {
-    return fail(std::string("internal error: ") + e.what(), 3);
-  }
-  return 0;
+  return run_verbs(app, verbs, argc, argv);
 }
