@@ -67,6 +67,11 @@ struct DensityRule {
   static void extend(double& lo, double& hi, double d) {
     if (d == d) lo = std::min(lo, d), hi = std::max(hi, d);
   }
+  // ln of any finite density lies within +-745; offsets 4096 apart keep
+  // every chart's band clear of the others' by more than any limit used,
+  // and two values less than half of it apart are of one chart.
+  static constexpr double kChartSpacing = 4096.0;
+  static bool same_chart(double a, double b) { return std::abs(a - b) < 0.5 * kChartSpacing; }
 };
 
 DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
@@ -74,9 +79,7 @@ DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
   const bool density = o.face_density.size() == nf && o.max_density_ratio > 1 && std::isfinite(o.max_density_ratio);
   const bool charts = o.face_chart.size() == nf && nf > 0;
   if (!density && !charts) return r;
-  // ln of any finite density lies within +-745; offsets 4096 apart keep
-  // every chart's band clear of the others' by more than any limit used.
-  constexpr double kChartSpacing = 4096.0;
+  constexpr double kChartSpacing = DensityRule::kChartSpacing;
   r.active = true;
   r.limit = density ? std::log(o.max_density_ratio) : 1.0;
   r.ln.resize(nf);
@@ -1030,10 +1033,14 @@ void absorb_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& op
     if (!hole || b == kNone) continue;
     std::vector<uint32_t>& B = patches[b];
     if (dr.active) {
-      double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-      for (uint32_t f : B) DensityRule::extend(lo, hi, dr.at(f));
-      for (uint32_t f : H) DensityRule::extend(lo, hi, dr.at(f));
-      if (lo <= hi && hi - lo > dr.limit) continue;
+      // Faces with less source detail than B's (stretched source UVs) only
+      // gain texels in B, so a hole may sit below B's density range; one
+      // above it, or in another chart, stays apart. Duck: 4 holes -> 0.
+      const double inf = std::numeric_limits<double>::infinity();
+      double blo = inf, bhi = -inf, hlo = inf, hhi = -inf;
+      for (uint32_t f : B) DensityRule::extend(blo, bhi, dr.at(f));
+      for (uint32_t f : H) DensityRule::extend(hlo, hhi, dr.at(f));
+      if (blo <= bhi && hlo <= hhi && (hhi - blo > dr.limit || !DensityRule::same_chart(hlo, blo))) continue;
     }
     unite.assign(B.begin(), B.end());
     unite.insert(unite.end(), H.begin(), H.end());

@@ -395,6 +395,40 @@ TEST(Embed, HiddenSourceSeamsJoinCharts) {
   EXPECT_FALSE(texture_seam_test(none)({0, 0}, {1, 0}, {0, 0}, {1, 0}));
 }
 
+// A lone face whose source density is far below its surroundings' (a
+// stretched source UV) joins the patch around it rather than stay a hole;
+// one far above (detail the patch's scale would minify) stays apart.
+TEST(Embed, HolesBelowTheDensityRangeAreAbsorbed) {
+  const ShapeMesh plane = make_plane(30, 20);
+  const TriMesh& m = plane.mesh;
+  // The face nearest the plane's centre.
+  uint32_t mid = 0;
+  double best = 1e300, cx = 0, cy = 0;
+  for (size_t v = 0; v < m.positions.size() / 3; ++v) cx += m.positions[3 * v], cy += m.positions[3 * v + 1];
+  cx /= double(m.positions.size() / 3), cy /= double(m.positions.size() / 3);
+  for (uint32_t f = 0; f < m.face_count(); ++f) {
+    double x = 0, y = 0;
+    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]], y += m.positions[3 * m.indices[3 * f + k] + 1];
+    const double d = (x / 3 - cx) * (x / 3 - cx) + (y / 3 - cy) * (y / 3 - cy);
+    if (d < best) best = d, mid = f;
+  }
+  for (const double factor : {1.0 / 100.0, 100.0}) {
+    SCOPED_TRACE(factor);
+    std::vector<double> density(m.face_count(), 10.0);
+    density[mid] = 10.0 * factor;
+    EmbedOptions opt;
+    opt.face_density = density;
+    const Embedding e = embed(m, opt);
+    expect_guarantees(m, e, opt.tau);
+    if (factor < 1) {
+      EXPECT_EQ(e.report.holes, 0u);
+      EXPECT_EQ(e.patch_count, 1u);
+    } else {
+      EXPECT_EQ(worst_patch_density_ratio(e, density), 1.0) << "the dense face keeps its own patch";
+    }
+  }
+}
+
 // The rule holds on every shape for a density that varies smoothly over
 // 16x (bands of any width), and the guarantees still hold.
 TEST(Embed, DensityRuleOnEveryShape) {
