@@ -33,7 +33,8 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
   }
   if (!larger.empty())
     std::printf("note: atlas %s: images larger than those replaced (every patch keeps its source detail, plus "
-                "gutters; --texel-density 0.8x or --image-format jpeg trade detail for bytes)\n", larger.c_str());
+                "gutters; --texel-density 0.8x, --image-format jpeg or a lower --jpeg-quality trade detail for "
+                "bytes)\n", larger.c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
   std::printf("encoded %s (%llu bytes) -> %s (%llu bytes) in %.2f s\n", in.c_str(),
               static_cast<unsigned long long>(in_size), out.c_str(), static_cast<unsigned long long>(out_size), seconds);
