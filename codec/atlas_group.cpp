@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <tuple>
 
@@ -152,8 +153,7 @@ struct GroupAtlas {
 // sampler for the quality check (the truck: 12 builds, 0.15 s each).
 struct SourceImage {
   OIIO::ImageBuf pixels;
-  bool palette_known = false;
-  std::vector<PaletteEntry> palette;  // source_palette
+  std::optional<std::vector<PaletteEntry>> palette;  // source_palette, once asked for
   std::map<JobKey, TextureSampler> samplers;
 };
 using SourceImages = std::map<int, SourceImage>;
@@ -275,11 +275,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       WarpOptions wo;
       wo.encoding = slot.normal_map ? SlotEncoding::normal
                                     : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
-      int gl_wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, gl_wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
-      if (sampler >= 0 && static_cast<size_t>(sampler) < model.samplers.size()) {
-        gl_wrap_s = model.samplers[sampler].wrapS;
-        gl_wrap_t = model.samplers[sampler].wrapT;
-      }
+      int gl_wrap_s = 0, gl_wrap_t = 0;
+      texture_wraps(model, slot.texture, gl_wrap_s, gl_wrap_t);
       wo.wrap_s = wrap_from_gltf(gl_wrap_s);
       wo.wrap_t = wrap_from_gltf(gl_wrap_t);
       for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
@@ -320,13 +317,11 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       job.image = image;
       job.mime = output_mime(model.images[image].image, options.image_format);
       // Snapped before the quality check, so that it measures the texels the file will hold.
-      if (!cached.palette_known) {
-        cached.palette = source_palette(model.images[image].image, source);
-        cached.palette_known = true;
+      std::span<const PaletteEntry> palette;
+      if (palette_applies(atlas, job.mime, slot.normal_map, options.image_format)) {
+        if (!cached.palette) cached.palette = source_palette(model.images[image].image, source);
+        palette = *cached.palette;
       }
-      const std::span<const PaletteEntry> palette =
-          palette_applies(atlas, job.mime, slot.normal_map, options.image_format) ? std::span<const PaletteEntry>(cached.palette)
-                                                                                   : std::span<const PaletteEntry>();
       snap_to_palette(atlas, palette);
       int quality = options.jpeg_quality;
       if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
@@ -476,9 +471,10 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // gives the smaller scale to the patches that buy the most texels for the
 // least added error, while the group's error stays under the floor (plus
 // half a dB of margin), and while the images are already no larger than
-// their sources, above the quality goal too (or where it is, if below). A round's result is kept only if its own
-// measurement holds the floor and its images are smaller; otherwise the
-// previous atlas is rebuilt and the search stops.
+// their sources, above the quality goal too (or where it is, if below). A
+// round's result is kept only if its own measurement holds the floor and its
+// images are smaller; otherwise the previous atlas is rebuilt and the search
+// stops.
 std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                                    const EncodeOptions& options, SourceImages& sources, double factor, double min_psnr, GroupAtlas& built) {
   constexpr int32_t kStep = -2;

@@ -1198,13 +1198,8 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
     }
   }
   // Per patch: fill, and holes (1-3 faces whose every edge borders one other patch).
-  std::vector<uint32_t> off(size_t{patch_count} + 1, 0), pf(nf);
-  for (uint32_t f = 0; f < nf; ++f) ++off[patch_of_face[f] + 1];
-  for (uint32_t p = 0; p < patch_count; ++p) off[p + 1] += off[p];
-  {
-    std::vector<uint32_t> fill(off.begin(), off.end() - 1);
-    for (uint32_t f = 0; f < nf; ++f) pf[fill[patch_of_face[f]]++] = f;
-  }
+  std::vector<uint32_t> off, pf;
+  faces_by_patch(patch_of_face, patch_count, off, pf);
   const std::vector<double> xy(corner_xy.begin(), corner_xy.end());
   std::vector<Vec2> scratch;
   double fsum = 0, fw = 0;

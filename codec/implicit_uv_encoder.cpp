@@ -76,16 +76,8 @@ std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, int mater
   std::vector<TextureSampler> out;
   for (const TextureSlot& slot : texture_slots(model, material)) {
     if (slot.tex_coord != 0) continue;
-    const int image = texture_image(model, slot.texture);
-    if (image < 0) return {};
-    const int sampler = model.textures[slot.texture].sampler;
-    int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
-    if (sampler >= 0 && size_t(sampler) < model.samplers.size())
-      wrap_s = model.samplers[sampler].wrapS, wrap_t = model.samplers[sampler].wrapT;
     TextureSampler t;
-    if (!load_texture_sampler(model.images[image].image, slot.color_space == ColorSpace::srgb, wrap_s, wrap_t,
-                              slot.transform, t).empty())
-      return {};
+    if (!load_slot_sampler(model, slot, t).empty()) return {};
     out.push_back(std::move(t));
   }
   return out;

@@ -20,15 +20,7 @@ TextureSampler slot_sampler(const tinygltf::Model& m, int material, const std::s
   TextureSampler s;
   for (const auto& slot : texture_slots(m, material)) {
     if (slot.name() != key || slot.tex_coord != 0) continue;
-    const int img = texture_image(m, slot.texture);
-    if (img < 0) return s;
-    int wrap_s = TINYGLTF_TEXTURE_WRAP_REPEAT, wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
-    const int sampler = m.textures[slot.texture].sampler;
-    if (sampler >= 0 && static_cast<size_t>(sampler) < m.samplers.size()) {
-      wrap_s = m.samplers[sampler].wrapS;
-      wrap_t = m.samplers[sampler].wrapT;
-    }
-    load_texture_sampler(m.images[img].image, slot.color_space == ColorSpace::srgb, wrap_s, wrap_t, slot.transform, s);
+    load_slot_sampler(m, slot, s);
     return s;
   }
   return s;

@@ -29,6 +29,15 @@ OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
 
 }  // namespace
 
+std::string load_slot_sampler(const tinygltf::Model& model, const TextureSlot& slot, TextureSampler& out) {
+  const int image = texture_image(model, slot.texture);
+  if (image < 0) return "texture " + std::to_string(slot.texture) + " has no image";
+  int wrap_s = 0, wrap_t = 0;
+  texture_wraps(model, slot.texture, wrap_s, wrap_t);
+  return load_texture_sampler(model.images[image].image, slot.color_space == ColorSpace::srgb, wrap_s, wrap_t,
+                              slot.transform, out);
+}
+
 void TextureSampler::sample(double u, double v, float* out) const {
   const auto& t = transform;
   const double tu = t[0] * u + t[1] * v + t[2], tv = t[3] * u + t[4] * v + t[5];

@@ -14,6 +14,8 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "format/gltf_materials.h"
+
 namespace gltfwarp {
 
 // A texel index wrapped as a GPU sampler wraps it: per axis, per texel, so
@@ -37,6 +39,9 @@ struct TextureSampler {
 // glTF sampler enums (10497 repeat, 33648 mirrored, 33071 clamp).
 std::string load_texture_sampler(std::span<const uint8_t> image_bytes, bool srgb, int gl_wrap_s, int gl_wrap_t,
                                  const std::array<double, 6>& transform, TextureSampler& out);
+// A material slot's texture as a viewer samples it: its image, its
+// sampler's wrap modes, the slot's colour space and transform.
+std::string load_slot_sampler(const tinygltf::Model& model, const TextureSlot& slot, TextureSampler& out);
 void load_texture_sampler(const OIIO::ImageBuf& image, bool srgb, int gl_wrap_s, int gl_wrap_t,
                           const std::array<double, 6>& transform, TextureSampler& out);
 

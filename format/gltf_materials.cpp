@@ -65,6 +65,15 @@ int texture_image(const tinygltf::Model& model, int texture) {
   return src;
 }
 
+void texture_wraps(const tinygltf::Model& model, int texture, int& wrap_s, int& wrap_t) {
+  wrap_s = wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
+  if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return;
+  const int sampler = model.textures[texture].sampler;
+  if (sampler < 0 || static_cast<size_t>(sampler) >= model.samplers.size()) return;
+  wrap_s = model.samplers[sampler].wrapS;
+  wrap_t = model.samplers[sampler].wrapT;
+}
+
 std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int material) {
   std::vector<TextureSlot> out;
   if (material < 0 || static_cast<size_t>(material) >= model.materials.size()) return out;

@@ -39,6 +39,10 @@ void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture)
 // Image index a texture samples, or -1.
 int texture_image(const tinygltf::Model& model, int texture);
 
+// The wrapS and wrapT of a texture's sampler (glTF enums); REPEAT, glTF's
+// default, when the texture has no valid sampler.
+void texture_wraps(const tinygltf::Model& model, int texture, int& wrap_s, int& wrap_t);
+
 }  // namespace gltfwarp
 
 namespace gltfwarp {
