@@ -46,6 +46,10 @@ Runner add_encode(CLI::App& app) {
       ->default_val("count")->check(CLI::IsMember({"count", "used", "p90"}));
   app.add_option("--max-atlas-size", a->opt.max_atlas_size, "Largest atlas side in texels")
       ->default_val(4096)->check(CLI::Range(16, 65536));
+  app.add_option("--max-pages", a->opt.max_pages,
+                 "Atlas pages (images of --max-atlas-size) a texture set may spread over before its density shrinks "
+                 "to fit; a primitive too large for one page is cut into primitives of one page each. 1: one page")
+      ->default_val(16)->check(CLI::Range(1, 256));
   app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->default_val(4)->check(CLI::Range(0, 64));
   app.add_flag("--power-of-two", a->opt.power_of_two, "Atlas sides as powers of two (default: multiples of 4)");
   app.add_option("--image-format", a->image_format, "keep, png or jpeg")->default_val("keep")

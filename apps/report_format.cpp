@@ -25,9 +25,12 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
   std::string larger;  // atlases whose images outweigh the source's
   for (size_t i = 0; i < r.atlases.size(); ++i) {
     const auto& a = r.atlases[i];
-    std::printf("atlas %zu: %ux%u, fill %.1f%%, overlapping texels %zu, density %.3gx, surface PSNR %.1f dB, "
+    std::string pages;
+    for (size_t p = 1; p < a.page_sizes.size(); ++p)
+      pages += (p == 1 ? " + " : ", ") + std::to_string(a.page_sizes[p][0]) + "x" + std::to_string(a.page_sizes[p][1]);
+    std::printf("atlas %zu: %ux%u%s, fill %.1f%%, overlapping texels %zu, density %.3gx, surface PSNR %.1f dB, "
                 "images %zu -> %zu bytes\n",
-                i, a.width, a.height, 100.0 * a.fill, a.overlapping_texels, a.density_factor, a.psnr,
+                i, a.width, a.height, pages.c_str(), 100.0 * a.fill, a.overlapping_texels, a.density_factor, a.psnr,
                 a.source_image_bytes, a.atlas_image_bytes);
     if (a.atlas_image_bytes > a.source_image_bytes) larger += (larger.empty() ? "" : ", ") + std::to_string(i);
   }

@@ -393,10 +393,11 @@ int main(int argc, char** argv) {
       unmatched += p.unmatched_faces;
     }
   double fill_num = 0, fill_den = 0;
-  for (const auto& a : ours.report.atlases) {
-    fill_num += a.fill * double(a.width) * a.height;
-    fill_den += double(a.width) * a.height;
-  }
+  for (const auto& a : ours.report.atlases)
+    for (const auto& [w, h] : a.page_sizes) {
+      fill_num += a.fill * double(w) * h;
+      fill_den += double(w) * h;
+    }
   const std::string ours_path = work + "/ours.glb";
   save(ours.model, ours_path);
   out["primitives_replaced"] = replaced.size();

@@ -14,6 +14,7 @@
 #include "codec/png_palette.h"
 #include "codec/implicit_uv_encoder.h"
 #include "codec/pack.h"
+#include "codec/pages.h"
 #include "codec/tangents.h"
 #include "codec/texel_density.h"
 #include "codec/texture_sampler.h"
@@ -129,6 +130,7 @@ using JobKey = std::tuple<int, int, std::array<double, 6>, int, bool>;
 struct WarpJob {
   JobKey key;
   int image = -1;
+  uint32_t page = 0;
   std::vector<uint8_t> bytes;  // the encoded atlas image
   std::string mime;
 };
@@ -145,7 +147,87 @@ struct GroupAtlas {
   uint32_t patch_count = 0;                     // over the members, numbered member by member
   std::vector<SurfaceError> patch_error;        // per patch, colour slots
   std::vector<double> patch_texels;             // per patch: its triangles' area in atlas texels
+  std::vector<std::vector<size_t>> pages;       // members (indices into group.members) per page
+  std::vector<uint32_t> page_of_member;
 };
+
+// Atlas texels of each group member, estimated the way the packer scales
+// each patch: its density against the reference, with its adaptive bias.
+std::vector<double> member_texels(const AtlasGroup& group, const ImplicitPlan& plan,
+                                  const std::vector<std::vector<double>>& density,
+                                  const std::vector<std::vector<int32_t>>& step_bias, double scale, double reference) {
+  std::vector<double> texels(group.members.size(), 0.0);
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    const auto patch = estimated_patch_texels(ip.corner_xy, ip.patch_of_face, ip.patch_count,
+                                              reference > 0 ? std::span<const double>(density[k]) : std::span<const double>(),
+                                              reference > 0 ? scale / reference : scale);
+    for (uint32_t p = 0; p < ip.patch_count; ++p) {
+      const double s = k < step_bias.size() && p < step_bias[k].size() ? patch_scale(step_bias[k][p]) : 1.0;
+      texels[k] += patch[p] * s * s;
+    }
+  }
+  return texels;
+}
+
+// The group's members spread over at most max_pages pages of `capacity`
+// texels (pages.h): whole members only, as a primitive samples one image
+// per slot; those too large for a page alone were cut into parts when they
+// were prepared (prepare_implicit_primitive). Past max_pages: fewer, fuller
+// pages (the packer then shrinks the density where they overflow).
+std::vector<std::vector<size_t>> spread_over_pages(std::span<const double> texels, double capacity,
+                                                   uint32_t max_pages) {
+  if (max_pages <= 1 || texels.size() < 2) {
+    std::vector<size_t> all(texels.size());
+    for (size_t k = 0; k < all.size(); ++k) all[k] = k;
+    return {all};
+  }
+  for (;; capacity *= 1.25) {
+    auto pages = assign_pages(texels, capacity);
+    if (pages.size() <= max_pages) return pages;
+  }
+}
+
+// Packs each page of out.pages on its own: out.maps, page_of_member and
+// capped, and the report's page sizes, fill and overlap. `crowded`: a page
+// of several members overflowed (another spread may help); `scale_kept`:
+// the lowest page's texel scale over `scale` (1 when none shrank).
+std::string pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, double scale, GroupAtlas& out,
+                       bool& crowded, double& scale_kept) {
+  AtlasReport& ar = out.report;
+  out.page_of_member.assign(pp.size(), 0);
+  out.maps.assign(pp.size(), UvMap{});
+  out.capped = crowded = false;
+  scale_kept = 1;
+  ar.page_sizes.clear();
+  ar.overlapping_texels = 0;
+  double covered = 0, page_texels = 0;
+  for (size_t page = 0; page < out.pages.size(); ++page) {
+    std::vector<PackPrimitive> on_page;
+    for (size_t k : out.pages[page]) on_page.push_back(pp[k]);
+    PackResult packed;
+    const PackStatus ps = pack_atlas(on_page, po, packed);
+    if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
+    for (size_t i = 0; i < out.pages[page].size(); ++i) {
+      out.maps[out.pages[page][i]] = packed.maps[i];
+      out.page_of_member[out.pages[page][i]] = uint32_t(page);
+    }
+    ar.page_sizes.push_back({packed.report.atlas_width, packed.report.atlas_height});
+    covered += packed.report.fill * double(packed.report.atlas_texels);
+    page_texels += double(packed.report.atlas_texels);
+    ar.overlapping_texels += packed.report.overlap_texels;
+    // The page hit --max-atlas-size and the scale shrank: more density cannot help.
+    if (packed.report.shrink_retries > 0) {
+      out.capped = true;
+      scale_kept = std::min(scale_kept, packed.report.texel_scale / scale);
+      crowded = crowded || out.pages[page].size() > 1;
+    }
+  }
+  ar.width = ar.page_sizes[0][0];
+  ar.height = ar.page_sizes[0][1];
+  ar.fill = page_texels > 0 ? covered / page_texels : 0;
+  return {};
+}
 
 // Decoded source images by image index: a group's atlas is built up to five
 // times (density retries, adaptive rounds), its sources decoded once.
@@ -218,30 +300,32 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
   po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
   // A measurement needs each patch's texels and error, not the tightest page.
   if (measure_only) po.multi_order_max_patches = 0;
-  PackResult packed;
-  const PackStatus ps = pack_atlas(pp, po, packed);
-  if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
+  // Pages by estimate; when a page of several members still overflows (the
+  // estimate misses gutters and ragged outlines, which weigh most on small
+  // pages), the members spread again over smaller pages, a few times.
+  const std::vector<double> texels = member_texels(group, plan, density, step_bias, scale, reference);
   AtlasReport& ar = out.report;
-  ar.width = packed.report.atlas_width;
-  ar.height = packed.report.atlas_height;
-  ar.fill = packed.report.fill;
-  ar.overlapping_texels = packed.report.overlap_texels;
   ar.density_factor = density_factor;
-  // The page hit --max-atlas-size and the scale shrank: more density cannot help.
-  out.capped = packed.report.shrink_retries > 0;
-  if (out.capped && reference > 0) ar.density_factor = density_factor * packed.report.texel_scale / scale;
+  double scale_kept = 1;  // the lowest page's texel scale, over the one asked for
+  double capacity = page_capacity(options.max_atlas_size);
+  for (int attempt = 0;; ++attempt, capacity *= 0.75) {
+    out.pages = spread_over_pages(texels, capacity, options.max_pages);
+    bool crowded = false;
+    if (std::string err = pack_pages(pp, po, scale, out, crowded, scale_kept); !err.empty()) return err;
+    if (!crowded || attempt >= 3 || out.pages.size() >= std::min<size_t>(options.max_pages, texels.size())) break;
+  }
+  if (out.capped && reference > 0) ar.density_factor = density_factor * scale_kept;
 
   // Bitstreams, and the UVs exactly as the decoder will rebuild them.
   for (size_t k = 0; k < group.members.size(); ++k) {
     auto& ip = plan.prims[group.members[k]];
-    UvMap map = packed.maps[k];
+    UvMap& map = out.maps[k];
     map.tau = static_cast<float>(options.tau);
     std::vector<uint8_t> bytes;
     UvStatus st = write_uvmap(map, ip.tri, bytes);
     if (st != UvStatus::ok) return std::string("cannot write the UV bitstream: ") + to_string(st);
     st = decode_uvs(ip.tri, bytes, ip.corner_uv);
     if (st != UvStatus::ok) return std::string("the UV bitstream does not decode: ") + to_string(st);
-    out.maps.push_back(map);
     out.bitstreams.push_back(std::move(bytes));
   }
   out.patch_texels.assign(out.patch_count, 0.0);
@@ -256,13 +340,14 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     }
   }
 
+  std::set<JobKey> warped;
   for (int mat : group.materials) {
     for (const auto& slot : texture_slots(model, mat)) {
       if (slot.tex_coord != 0) continue;
       const int image = texture_image(model, slot.texture);
       const int sampler = model.textures[slot.texture].sampler;
       const JobKey key{image, sampler, slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
-      if (std::any_of(out.jobs.begin(), out.jobs.end(), [&](const WarpJob& j) { return j.key == key; })) continue;
+      if (!warped.insert(key).second) continue;
       std::string err;
       auto [found, fresh] = sources.try_emplace(image);
       if (fresh && !decode_image(model.images[image].image, found->second.pixels, err)) {
@@ -281,76 +366,80 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       wo.wrap_t = wrap_from_gltf(gl_wrap_t);
       for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
       wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
-      std::vector<WarpPrimitive> wp;
-      std::vector<SurfaceUvs> uvs;
-      std::vector<TangentFrames> frames;
-      frames.reserve(group.members.size());
-      for (const size_t& m : group.members) {
-        const auto& ip = plan.prims[m];
-        // Only the primitives whose material samples this image paint it.
-        const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
-        const auto slots = texture_slots(model, pm);
-        if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
-              return s.tex_coord == 0 && texture_image(model, s.texture) == image;
-            }))
-          continue;
-        WarpPrimitive w;
-        w.source_uv = ip.source_uv;
-        w.atlas_uv = ip.corner_uv;
-        if (slot.normal_map) {
-          frames.push_back(corner_frames(ip));
-          w.normals = frames.back().normals;
-          w.old_tangents = frames.back().old_tangents;
-          w.new_tangents = frames.back().new_tangents;
-        }
-        wp.push_back(w);
-        const size_t k = size_t(&m - group.members.data());
-        uvs.push_back({ip.source_uv, ip.corner_uv, group_patch[k]});
-      }
-      OIIO::ImageBuf atlas;
-      WarpReport wr;
-      const WarpStatus ws = warp_texture(source, wp, ar.width, ar.height, wo, atlas, &wr);
-      if (ws != WarpStatus::ok)
-        return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
-      WarpJob job;
-      job.key = key;
-      job.image = image;
-      job.mime = output_mime(model.images[image].image, options.image_format);
-      // Snapped before the quality check, so that it measures the texels the file will hold.
-      std::span<const PaletteEntry> palette;
-      if (palette_applies(atlas, job.mime, slot.normal_map, options.image_format)) {
-        if (!cached.palette) cached.palette = source_palette(model.images[image].image, source);
-        palette = *cached.palette;
-      }
-      snap_to_palette(atlas, palette);
-      int quality = options.jpeg_quality;
-      if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
-      if (quality <= 0) quality = 90;
-      // JPEG is lossy: the check measures the decoded bytes, what a viewer
-      // will show (Duck as JPEG q60: 41.8 dB before coding, 35.8 after).
-      const bool lossy = job.mime == "image/jpeg" && !slot.normal_map;
-      OIIO::ImageBuf decoded;
-      if (lossy) {
-        err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
-        if (err.empty() && !decode_image(job.bytes, decoded, err)) err = "cannot read back the coded atlas: " + err;
-        if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
-      }
-      if (!slot.normal_map) {
-        // Normal maps change legitimately (new tangent frames): colour slots only.
-        const bool srgb = slot.color_space == ColorSpace::srgb;
-        auto [sit, fresh_sampler] = cached.samplers.try_emplace(key);
-        if (fresh_sampler) load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, sit->second);
-        const TextureSampler& before = sit->second;
-        TextureSampler after;
-        load_texture_sampler(lossy ? decoded : atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
-                             TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
-        out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
-      }
-      if (!measure_only && !lossy) err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
-      if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
       ar.source_image_bytes += model.images[image].image.size();
-      ar.atlas_image_bytes += job.bytes.size();
-      out.jobs.push_back(std::move(job));
+      for (size_t page = 0; page < out.pages.size(); ++page) {
+        std::vector<WarpPrimitive> wp;
+        std::vector<SurfaceUvs> uvs;
+        std::vector<TangentFrames> frames;
+        frames.reserve(group.members.size());
+        for (size_t k : out.pages[page]) {
+          const auto& ip = plan.prims[group.members[k]];
+          // Only the primitives whose material samples this image paint it.
+          const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
+          const auto slots = texture_slots(model, pm);
+          if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
+                return s.tex_coord == 0 && texture_image(model, s.texture) == image;
+              }))
+            continue;
+          WarpPrimitive w;
+          w.source_uv = ip.source_uv;
+          w.atlas_uv = ip.corner_uv;
+          if (slot.normal_map) {
+            frames.push_back(corner_frames(ip));
+            w.normals = frames.back().normals;
+            w.old_tangents = frames.back().old_tangents;
+            w.new_tangents = frames.back().new_tangents;
+          }
+          wp.push_back(w);
+          uvs.push_back({ip.source_uv, ip.corner_uv, group_patch[k]});
+        }
+        if (wp.empty()) continue;  // no member on this page samples the image
+        OIIO::ImageBuf atlas;
+        WarpReport wr;
+        const auto [page_width, page_height] = ar.page_sizes[page];
+        const WarpStatus ws = warp_texture(source, wp, page_width, page_height, wo, atlas, &wr);
+        if (ws != WarpStatus::ok)
+          return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
+        WarpJob job;
+        job.key = key;
+        job.image = image;
+        job.page = uint32_t(page);
+        job.mime = output_mime(model.images[image].image, options.image_format);
+        // Snapped before the quality check, so that it measures the texels the file will hold.
+        std::span<const PaletteEntry> palette;
+        if (palette_applies(atlas, job.mime, slot.normal_map, options.image_format)) {
+          if (!cached.palette) cached.palette = source_palette(model.images[image].image, source);
+          palette = *cached.palette;
+        }
+        snap_to_palette(atlas, palette);
+        int quality = options.jpeg_quality;
+        if (quality <= 0) quality = estimate_jpeg_quality(model.images[image].image);
+        if (quality <= 0) quality = 90;
+        // JPEG is lossy: the check measures the decoded bytes, what a viewer
+        // will show (Duck as JPEG q60: 41.8 dB before coding, 35.8 after).
+        const bool lossy = job.mime == "image/jpeg" && !slot.normal_map;
+        OIIO::ImageBuf decoded;
+        if (lossy) {
+          err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
+          if (err.empty() && !decode_image(job.bytes, decoded, err)) err = "cannot read back the coded atlas: " + err;
+          if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
+        }
+        if (!slot.normal_map) {
+          // Normal maps change legitimately (new tangent frames): colour slots only.
+          const bool srgb = slot.color_space == ColorSpace::srgb;
+          auto [sit, fresh_sampler] = cached.samplers.try_emplace(key);
+          if (fresh_sampler) load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, sit->second);
+          const TextureSampler& before = sit->second;
+          TextureSampler after;
+          load_texture_sampler(lossy ? decoded : atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
+                               TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
+          out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
+        }
+        if (!measure_only && !lossy) err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
+        if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
+        ar.atlas_image_bytes += job.bytes.size();
+        out.jobs.push_back(std::move(job));
+      }
     }
   }
   ar.psnr = out.error.values ? out.error.psnr() : 0;
@@ -376,11 +465,35 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     pr.bitstream_bytes = built.bitstreams[k].size();
     pr.atlas = static_cast<int>(report.atlases.size());
   }
-  std::map<JobKey, int> made;  // -> new texture
+  // Each page's members sample that page's images: the first page a
+  // material is used on keeps it, every later page gets a copy of it (taken
+  // before any slot is retargeted). A group material no member uses follows
+  // the first page, as with one page.
+  std::map<std::pair<int, uint32_t>, int> material_on_page;  // (group material, page) -> material
+  std::set<int> placed;
+  for (uint32_t page = 0; page < built.pages.size(); ++page)
+    for (size_t k : built.pages[page]) {
+      const auto& ip = plan.prims[group.members[k]];
+      auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+      const int mat = prim.material;
+      if (std::find(group.materials.begin(), group.materials.end(), mat) == group.materials.end()) continue;
+      auto [it, fresh] = material_on_page.try_emplace({mat, page}, mat);
+      if (fresh && !placed.insert(mat).second) {
+        tinygltf::Material copy = model.materials[mat];
+        copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) + (copy.name.empty() ? "" : ")");
+        model.materials.push_back(std::move(copy));
+        it->second = static_cast<int>(model.materials.size() - 1);
+      }
+      prim.material = it->second;
+    }
+  for (int mat : group.materials)
+    if (placed.insert(mat).second) material_on_page[{mat, 0}] = mat;
+  std::map<std::pair<JobKey, uint32_t>, int> made;  // (slot source, page) -> new texture
   for (WarpJob& job : built.jobs) {
     tinygltf::Image img;
     const auto& src = model.images[job.image];
     img.name = src.name.empty() ? "atlas" : src.name + "_atlas";
+    if (job.page > 0) img.name += std::to_string(job.page + 1);
     img.mimeType = job.mime;
     img.image = std::move(job.bytes);
     img.as_is = true;
@@ -390,20 +503,21 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     tex.source = static_cast<int>(model.images.size() - 1);
     tex.sampler = clamp_sampler;
     model.textures.push_back(tex);
-    made[job.key] = static_cast<int>(model.textures.size() - 1);
+    made[{job.key, job.page}] = static_cast<int>(model.textures.size() - 1);
   }
   // Slots as the source had them: retargeting must not change what later
   // slots see.
   std::map<int, std::vector<TextureSlot>> source_slots;
   for (int mat : group.materials) source_slots[mat] = texture_slots(model, mat);
-  for (int mat : group.materials)
-    for (const auto& slot : source_slots[mat]) {
+  for (const auto& [mat_page, target] : material_on_page)
+    for (TextureSlot slot : source_slots[mat_page.first]) {
       if (slot.tex_coord != 0) continue;
       const JobKey key{texture_image(model, slot.texture), model.textures[slot.texture].sampler, slot.transform,
                        static_cast<int>(slot.color_space), slot.normal_map};
-      const auto it = made.find(key);
+      const auto it = made.find({key, mat_page.second});
       if (it == made.end()) continue;
       retired_textures.push_back(slot.texture);
+      slot.material = target;
       retarget_slot(model, slot, it->second);
     }
   report.atlases.push_back(built.report);

@@ -4,6 +4,8 @@
 // warped atlas images instead (implicit_uv_encoder.cpp).
 #include "codec/encoder.h"
 
+#include <algorithm>
+
 #include "codec/implicit_uv_encoder.h"
 #include "format/gltf_io.h"
 #include "format/gltf_primitive.h"
@@ -19,20 +21,22 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
   }
   size_t done = 0, total = 0;
   for (const auto& mesh : model.meshes) total += mesh.primitives.size();
+  // A primitive too large for one atlas page is cut into parts, appended to
+  // its mesh: the loop reaches them in turn.
   for (size_t mi = 0; mi < model.meshes.size(); ++mi) {
     for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
-      if (options.progress) options.progress("geometry", total ? double(done++) / double(total) : 1.0);
-      auto& prim = model.meshes[mi].primitives[pi];
+      if (options.progress) options.progress("geometry", std::min(1.0, total ? double(done++) / double(total) : 1.0));
+      const tinygltf::Primitive& source = model.meshes[mi].primitives[pi];
       PrimitiveReport pr;
       pr.mesh = static_cast<int>(mi);
       pr.primitive = static_cast<int>(pi);
       const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi);
-      if (!is_triangle_mode(prim.mode)) {
-        pr.handling = "pass: not triangles (mode " + std::to_string(prim.mode) + ")";
+      if (!is_triangle_mode(source.mode)) {
+        pr.handling = "pass: not triangles (mode " + std::to_string(source.mode) + ")";
         report.primitives.push_back(pr);
         continue;
       }
-      if (!prim.targets.empty()) {
+      if (!source.targets.empty()) {
         // Draco cannot carry morph targets, and the targets' accessors must
         // keep matching the base vertices one to one.
         pr.handling = "raw: morph targets";
@@ -41,7 +45,7 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
         continue;
       }
       PrimitiveGeometry geom;
-      std::string err = read_primitive(model, prim, geom);
+      std::string err = read_primitive(model, source, geom);
       if (!err.empty()) return where + ": " + err;
       pr.triangles = geom.triangles.size() / 3;
       pr.vertices = geom.vertex_count();
@@ -51,19 +55,28 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
         // prepare_implicit_primitive consumes its geometry; keep the source
         // in case the primitive falls back to explicit UVs.
         PrimitiveGeometry work = geom;
-        err = prepare_implicit_primitive(model, prim, work, plan, options, replaced, pr);
+        err = prepare_implicit_primitive(model, model.meshes[mi].primitives[pi], work, plan, options, replaced, pr);
         if (!err.empty()) return where + ": " + err;
+        if (pr.cut_parts > 1)
+          report.notes.push_back(where + " cut into " + std::to_string(pr.cut_parts) +
+                                 " primitives (the others appended to its mesh): its texels would pass one atlas "
+                                 "page (--max-atlas-size, --max-pages)");
         if (plan.is_implicit(pr.mesh, pr.primitive)) {
           plan.prims.back().report_index = report.primitives.size();
         } else {
           report.notes.push_back(where + ": " + pr.handling);
           implicit = false;
+          // It may have been cut into parts before it fell back.
+          err = read_primitive(model, model.meshes[mi].primitives[pi], geom);
+          if (!err.empty()) return where + ": " + err;
         }
       }
       if (implicit) {
         report.primitives.push_back(pr);
         continue;
       }
+      // Not `source`: a cut appends primitives to the mesh, which may move them.
+      tinygltf::Primitive& prim = model.meshes[mi].primitives[pi];
       if (geom.triangles.empty()) {
         if (pr.handling.empty()) pr.handling = "pass: no triangles";
         report.notes.push_back(where + " passed through: it has no triangles");
@@ -92,6 +105,8 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
   }
   if (options.implicit_uvs) {
     std::string err = finish_implicit_uvs(model, plan, options, replaced, report);
+    if (!err.empty()) return err;
+    err = undo_fallen_back_cuts(model, plan, options, replaced, report);
     if (!err.empty()) return err;
   }
   // Primitives read from Draco and written raw no longer need Draco, and

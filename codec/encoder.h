@@ -3,6 +3,7 @@
 // the implicit UV map (our extension) plus warped atlas textures.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <string>
 #include <vector>
@@ -27,6 +28,7 @@ struct EncodeOptions {
   DensityMode texel_budget = DensityMode::preserve_texel_count;  // how "measured" counts source texels
   double texel_density_factor = 1.0;  // multiplies the measured density (e.g. 0.5 for half the detail)
   uint32_t max_atlas_size = 4096; // largest atlas side in texels
+  uint32_t max_pages = 16;        // pages per atlas group before the density shrinks to fit (codec/pages.h)
   int gutter = 4;                 // texels of padding around every patch
   bool power_of_two = false;      // atlas sides as powers of two (else multiples of 4)
   std::string image_format = "keep";  // keep | png | jpeg
@@ -76,12 +78,14 @@ struct PrimitiveReport {
   } greedy;
   size_t unmatched_faces = 0; // decoded faces not traced back to a source face
   int atlas = -1;             // index into EncodeReport::atlases
+  uint32_t cut_parts = 0;     // > 1: the source primitive was cut into this many, one atlas page each
 };
 
 struct AtlasReport {
   std::vector<int> primitives_meshes;  // informative
-  uint32_t width = 0, height = 0;
-  double fill = 0;              // covered texels / atlas texels
+  uint32_t width = 0, height = 0;  // the first page's
+  std::vector<std::array<uint32_t, 2>> page_sizes;  // every page's width and height (one image set each)
+  double fill = 0;              // covered texels / atlas texels, over the pages
   size_t overlapping_texels = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;    // times the measured texel density

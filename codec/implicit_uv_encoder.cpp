@@ -6,6 +6,7 @@
 #include <set>
 
 #include "codec/corner_match.h"
+#include "codec/cut_primitive.h"
 #include "codec/embed.h"
 #include "codec/embedding_mesh.h"
 #include "codec/seam_continuity.h"
@@ -13,6 +14,7 @@
 #include "codec/texture_sampler.h"
 #include "codec/image_io.h"
 #include "codec/pack.h"
+#include "codec/pages.h"
 #include "codec/texel_density.h"
 #include "codec/warp.h"
 #include "format/decode_uvs.h"
@@ -186,6 +188,51 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
   return {};
 }
 
+namespace {
+
+// When the primitive's patches would take more texels than one page holds
+// (at the density the atlas will give them, codec/pages.h): the part of
+// each source face (read_primitive order), grouping whole patches so the
+// cut adds no seam. Empty: no cut (it fits, --max-pages 1, or one patch).
+std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& er, const CornerMatch& match,
+                                 size_t source_faces, uint32_t image_w, uint32_t image_h,
+                                 const EncodeOptions& options) {
+  if (options.max_pages <= 1 || image_w == 0 || er.patch_count < 2) return {};
+  std::vector<double> face_density;
+  double factor = options.texel_density;  // fixed texels per unit
+  if (!(factor > 0)) {
+    face_density = layout_texel_density(er.corner_xy, ip.source_uv, image_w, image_h);
+    factor = options.texel_density_factor;
+  }
+  const auto texels = estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
+  double total = 0;
+  for (double t : texels) total += t;
+  const double capacity = page_capacity(options.max_atlas_size);
+  if (!(total > capacity)) return {};
+  uint32_t parts = 0;
+  std::vector<uint32_t> part_of_patch;
+  // More parts than pages allowed: fewer, larger ones (their pages then shrink).
+  for (double c = capacity;; c *= 1.25) {
+    part_of_patch = parts_of_patches(ip.tri, er.patch_of_face, texels, c, parts);
+    if (parts <= options.max_pages) break;
+  }
+  if (parts < 2) return {};
+  // Back to the source's faces. A source face no decoded face came from
+  // (one Draco dropped as degenerate) goes to the first part.
+  std::vector<uint32_t> part_of_face(source_faces, UINT32_MAX);
+  for (size_t f = 0; f < er.patch_of_face.size(); ++f) {
+    const uint32_t source_face = match.source_corner[3 * f] / 3;
+    if (source_face >= source_faces) continue;
+    uint32_t& part = part_of_face[source_face];
+    if (part == UINT32_MAX) part = part_of_patch[er.patch_of_face[f]];
+  }
+  for (uint32_t& part : part_of_face)
+    if (part == UINT32_MAX) part = 0;
+  return part_of_face;
+}
+
+}  // namespace
+
 std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
                                        ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& pr) {
@@ -291,6 +338,30 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   Embedding er = embed(ip.tri, eo);
   if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
 
+  // Too many texels for one atlas page: cut along patch boundaries into
+  // parts of about a page each, and start again on the first part (the
+  // encoder's loop reaches the others, appended to the mesh).
+  if (std::vector<uint32_t> part_of_face = page_parts(ip, er, match, geom.triangles.size() / 3, image_w, image_h, options);
+      !part_of_face.empty()) {
+    PrimitiveGeometry source;
+    if (std::string err = read_primitive(model, ip.source_primitive, source); !err.empty()) return err;
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i) replaced.push_back(static_cast<int>(i));
+    const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
+    const int group = plan.group_of.at({pr.mesh, pr.primitive});
+    PrimitiveCut cut{ip.mesh, ip.primitive, ip.source_primitive, {}};
+    cut.appended = cut_primitive(model, ip.mesh, ip.primitive, source, part_of_face, parts, replaced);
+    for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
+    plan.cuts.push_back(std::move(cut));
+    tinygltf::Primitive& first = model.meshes[ip.mesh].primitives[ip.primitive];
+    PrimitiveGeometry part;
+    if (std::string err = read_primitive(model, first, part); !err.empty()) return err;
+    pr.triangles = part.triangles.size() / 3;
+    pr.vertices = part.vertex_count();
+    pr.geometry_bytes = 0;
+    pr.cut_parts = std::max(pr.cut_parts, parts);
+    return prepare_implicit_primitive(model, first, part, plan, options, replaced, pr);
+  }
+
   // Commit: the trial becomes the primitive. TEXCOORD_0 stays declared,
   // without data, as KHR_draco_mesh_compression does with the attributes it
   // replaces: validators and loaders expect it.
@@ -333,5 +404,64 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   return {};
 }
 
+
+std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                  std::vector<int>& replaced, EncodeReport& report) {
+  auto entry = [&](int mesh, int primitive) -> PrimitiveReport* {
+    for (PrimitiveReport& pr : report.primitives)
+      if (pr.mesh == mesh && pr.primitive == primitive) return &pr;
+    return nullptr;
+  };
+  auto is_fallback = [](const PrimitiveReport* pr) { return pr && pr->handling.rfind("fallback", 0) == 0; };
+  std::map<int, std::vector<int>> erased;  // mesh -> primitives to erase
+  for (auto cut = plan.cuts.rbegin(); cut != plan.cuts.rend(); ++cut) {
+    PrimitiveReport* first = entry(cut->mesh, cut->primitive);
+    if (!is_fallback(first) ||
+        !std::all_of(cut->appended.begin(), cut->appended.end(), [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
+      continue;
+    tinygltf::Primitive& prim = model.meshes[cut->mesh].primitives[cut->primitive];
+    for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
+    if (prim.indices >= 0) replaced.push_back(prim.indices);
+    prim = cut->original;
+    PrimitiveGeometry geom;
+    if (std::string err = read_primitive(model, prim, geom); !err.empty()) return err;
+    first->triangles = geom.triangles.size() / 3;
+    first->vertices = geom.vertex_count();
+    first->geometry_bytes = 0;
+    if (options.raw_geometry) {
+      write_primitive_plain(model, prim, geom, replaced);
+      first->geometry_bytes = plain_geometry_bytes(geom);
+    } else {
+      PrimitiveGeometry decoded;
+      if (std::string err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded,
+                                                  first->geometry_bytes);
+          !err.empty())
+        return err;
+    }
+    first->cut_parts = 0;
+    // The parts' lines in the report and the notes go; the whole's stays.
+    const std::string mesh_tag = "mesh " + std::to_string(cut->mesh) + " primitive ";
+    for (int p : cut->appended) {
+      erased[cut->mesh].push_back(p);
+      const std::string tag = mesh_tag + std::to_string(p);
+      std::erase_if(report.notes, [&](const std::string& n) {
+        return n.rfind(tag, 0) == 0 && (n.size() == tag.size() || n[tag.size()] == ':' || n[tag.size()] == ' ');
+      });
+    }
+    const std::string tag = mesh_tag + std::to_string(cut->primitive) + " cut into";
+    std::erase_if(report.notes, [&](const std::string& n) { return n.rfind(tag, 0) == 0; });
+  }
+  for (auto& [mesh, parts] : erased) {
+    std::sort(parts.rbegin(), parts.rend());
+    for (int p : parts) {
+      auto& prims = model.meshes[mesh].primitives;
+      prims.erase(prims.begin() + p);
+      std::erase_if(report.primitives, [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
+      for (PrimitiveReport& pr : report.primitives)
+        if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
+    }
+  }
+  return {};
+}
 
 }  // namespace gltfwarp

@@ -40,8 +40,18 @@ struct AtlasGroup {
   std::vector<size_t> members;       // indices into ImplicitPlan::prims
 };
 
+// A primitive cut into parts for atlas pages (prepare_implicit_primitive):
+// what it was, and the parts appended to its mesh, so the cut can be
+// undone when every part keeps explicit UVs after all.
+struct PrimitiveCut {
+  int mesh = -1, primitive = -1;
+  tinygltf::Primitive original;
+  std::vector<int> appended;
+};
+
 struct ImplicitPlan {
   std::map<std::pair<int, int>, int> group_of;  // (mesh, primitive) -> group
+  std::vector<PrimitiveCut> cuts;               // in the order they were made
   std::vector<AtlasGroup> groups;
   std::vector<ImplicitPrimitive> prims;
   // The seam test's textures (seam_continuity.h) of the last material
@@ -61,6 +71,13 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
 std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
                                        ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& report);
+
+// Undoes, latest first, every cut whose parts all kept explicit UVs: the
+// primitive is written whole again (as the encoder writes any primitive
+// with explicit UVs), its parts leave the mesh, and the report's entries
+// and notes follow. A fallback then gives the file it gave before pages.
+std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                  std::vector<int>& replaced, EncodeReport& report);
 
 // Largest image (by texel count) that `material` samples through TEXCOORD_0;
 // 0 x 0 when none has a readable size. The partition's density rule and the

@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "codec/geometry2d.h"
+#include "codec/texel_density.h"
 #include "format/decode_uvs.h"
 
 namespace gltfwarp {
@@ -546,35 +547,16 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
   // RMS mean) over a reference density, quantized to the format's scale steps.
   std::vector<double> patch_w(patches.size(), 0), patch_d(patches.size(), 0);
   double all_w = 0, all_d2 = 0;
-  std::vector<std::pair<double, double>> dens;  // (density, layout area) of one patch's faces
-  for (size_t pi = 0; pi < patches.size(); ++pi) {
-    const PatchInfo& p = patches[pi];
-    const PackPrimitive& pr = prims[p.prim];
+  for (size_t i = 0; i < prims.size(); ++i) {
+    const PackPrimitive& pr = prims[i];
     if (pr.face_density.empty() || !options.per_patch_scale) continue;
-    dens.clear();
-    double d2 = 0;
-    for (uint32_t f : p.faces) {
-      const double* c = &pr.corner_xy[6 * size_t(f)];
-      const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
-      const double d = pr.face_density[f];
-      if (!(a > 0) || !std::isfinite(d) || !(d > 0)) continue;
-      patch_w[pi] += a, d2 += a * d * d;
-      dens.push_back({d, a});
-    }
-    if (!(patch_w[pi] > 0)) continue;
-    all_w += patch_w[pi], all_d2 += d2;
-    if (options.density_quantile > 0) {
-      std::sort(dens.begin(), dens.end());
-      const double target = std::min(options.density_quantile, 1.0) * patch_w[pi];
-      double acc = 0;
-      patch_d[pi] = dens.back().first;
-      for (const auto& [d, a] : dens)
-        if ((acc += a) >= target) {
-          patch_d[pi] = d;
-          break;
-        }
-    } else {
-      patch_d[pi] = std::sqrt(d2 / patch_w[pi]);
+    const auto dens = patch_densities(pr.corner_xy, pr.patch_of_face, pr.patch_count, pr.face_density,
+                                      options.density_quantile);
+    for (uint32_t p = 0; p < pr.patch_count; ++p) {
+      if (!(dens[p].area > 0)) continue;
+      patch_w[base[i] + p] = dens[p].area;
+      patch_d[base[i] + p] = dens[p].density;
+      all_w += dens[p].area, all_d2 += dens[p].squared;
     }
   }
   if (all_w > 0 && all_d2 > 0) {

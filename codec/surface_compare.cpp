@@ -64,6 +64,59 @@ void lambert(const VertexAttribute& normal, const VertexAttribute& tangent, cons
   }
 }
 
+// Where a decoded primitive's faces come from: one source primitive when
+// the meshes have as many primitives, else every textured primitive of the
+// source mesh (the encoder cut one into parts, one per atlas page), joined
+// into one geometry so each decoded face finds its own source face.
+struct SourceSide {
+  PrimitiveGeometry geom;               // POSITION, TEXCOORD_0 and, when all have them, NORMAL, TANGENT
+  std::vector<size_t> first_face;       // per candidate, then the total face count
+  std::vector<const TextureSampler*> samplers;  // per candidate
+  double tolerance = 0;                 // position match tolerance
+  size_t candidate_of_face(size_t f) const {
+    return size_t(std::upper_bound(first_face.begin(), first_face.end(), f) - first_face.begin()) - 1;
+  }
+};
+
+// Joins the candidates (their geometries and samplers); false when none has
+// the attributes a comparison needs.
+bool join_sources(const std::vector<const PrimitiveGeometry*>& geoms, const std::vector<const TextureSampler*>& samplers,
+                  SourceSide& out) {
+  static const char* const kSemantics[] = {"POSITION", "TEXCOORD_0", "NORMAL", "TANGENT"};
+  static const int kComponents[] = {3, 2, 3, 4};
+  std::vector<float> values[4];
+  bool present[4] = {true, true, true, true};
+  for (const PrimitiveGeometry* g : geoms)
+    for (int s = 0; s < 4; ++s) {
+      const VertexAttribute* a = g->find(kSemantics[s]);
+      if (!a || a->components < kComponents[s]) present[s] = false;
+    }
+  if (!present[0] || !present[1]) return false;
+  out.first_face.clear();
+  size_t vertices = 0;
+  for (size_t c = 0; c < geoms.size(); ++c) {
+    const PrimitiveGeometry& g = *geoms[c];
+    out.first_face.push_back(out.geom.triangles.size() / 3);
+    for (uint32_t v : g.triangles) out.geom.triangles.push_back(uint32_t(vertices + v));
+    for (int s = 0; s < 4; ++s) {
+      if (!present[s]) continue;
+      const VertexAttribute& a = *g.find(kSemantics[s]);
+      for (size_t e = 0; e < a.count(); ++e)
+        for (int i = 0; i < kComponents[s]; ++i) values[s].push_back(a.get(e, i));
+    }
+    vertices += g.vertex_count();
+  }
+  out.first_face.push_back(out.geom.triangles.size() / 3);
+  for (int s = 0; s < 4; ++s)
+    if (present[s]) out.geom.attributes.push_back(VertexAttribute::from_floats(kSemantics[s], kComponents[s], values[s]));
+  out.samplers = samplers;
+  // Tolerance: a Draco 14-bit step of the model's extent, generously.
+  double lo = 1e300, hi = -1e300;
+  for (float x : values[0]) lo = std::min<double>(lo, x), hi = std::max<double>(hi, x);
+  out.tolerance = (hi - lo) / 16383.0 * 2.0 + 1e-9;
+  return true;
+}
+
 }  // namespace
 
 SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Model& dec,
@@ -75,49 +128,64 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
     return r;
   }
   for (size_t mi = 0; mi < src.meshes.size(); ++mi) {
-    if (src.meshes[mi].primitives.size() != dec.meshes[mi].primitives.size()) {
+    const auto& sprims = src.meshes[mi].primitives;
+    const auto& dprims = dec.meshes[mi].primitives;
+    // The encoder appends the parts of a primitive it cut after the mesh's
+    // own primitives; anything else is another scene.
+    if (dprims.size() < sprims.size()) {
       r.error = "mesh " + std::to_string(mi) + " has a different primitive count";
       return r;
     }
-    for (size_t pi = 0; pi < src.meshes[mi].primitives.size(); ++pi) {
-      const auto& sp = src.meshes[mi].primitives[pi];
-      const auto& dp = dec.meshes[mi].primitives[pi];
-      if (!is_triangle_mode(sp.mode)) continue;
-      const TextureSampler si = slot_sampler(src, sp.material, options.slot), di = slot_sampler(dec, dp.material, options.slot);
-      if (!si.ok || !di.ok) continue;
-      PrimitiveGeometry sg, dg;
-      if (!read_primitive(src, sp, sg).empty() || !read_primitive(dec, dp, dg).empty()) continue;
+    const bool cut = dprims.size() > sprims.size();
+    // Source primitives read once: geometry and slot sampler.
+    std::vector<PrimitiveGeometry> sgeom(sprims.size());
+    std::vector<TextureSampler> ssampler(sprims.size());
+    std::vector<uint8_t> usable(sprims.size(), 0);
+    for (size_t pi = 0; pi < sprims.size(); ++pi) {
+      const auto& sp = sprims[pi];
+      if (!is_triangle_mode(sp.mode) || (!cut && !is_triangle_mode(dprims[pi].mode))) continue;
+      ssampler[pi] = slot_sampler(src, sp.material, options.slot);
+      usable[pi] = ssampler[pi].ok && read_primitive(src, sp, sgeom[pi]).empty();
+    }
+    for (size_t di_index = 0; di_index < dprims.size(); ++di_index) {
+      const auto& dp = dprims[di_index];
+      if (!is_triangle_mode(dp.mode)) continue;
+      std::vector<const PrimitiveGeometry*> geoms;
+      std::vector<const TextureSampler*> samplers;
+      for (size_t pi = cut ? 0 : di_index; pi < (cut ? sprims.size() : di_index + 1); ++pi)
+        if (usable[pi]) geoms.push_back(&sgeom[pi]), samplers.push_back(&ssampler[pi]);
+      if (geoms.empty()) continue;
+      const TextureSampler di = slot_sampler(dec, dp.material, options.slot);
+      if (!di.ok) continue;
+      PrimitiveGeometry dg;
+      if (!read_primitive(dec, dp, dg).empty()) continue;
+      SourceSide side;
+      if (!join_sources(geoms, samplers, side)) continue;
+      const PrimitiveGeometry& sg = side.geom;
       const VertexAttribute *spos = sg.find("POSITION"), *dpos = dg.find("POSITION");
       const VertexAttribute *suv = sg.find("TEXCOORD_0"), *duv = dg.find("TEXCOORD_0");
-      if (!spos || !dpos || !suv || !duv) continue;
-      // Tolerance: a Draco 14-bit step of the model's extent, generously.
-      double lo = 1e300, hi = -1e300;
-      for (size_t e = 0; e < spos->count(); ++e)
-        for (int i = 0; i < 3; ++i) {
-          lo = std::min<double>(lo, spos->get(e, i));
-          hi = std::max<double>(hi, spos->get(e, i));
-        }
-      const double tol = (hi - lo) / 16383.0 * 2.0 + 1e-9;
-      const CornerMatch match = match_corners(spos->to_floats(), sg.triangles, dpos->to_floats(), dg.triangles, tol);
+      if (!dpos || !duv) continue;
+      const CornerMatch match =
+          match_corners(spos->to_floats(), sg.triangles, dpos->to_floats(), dg.triangles, side.tolerance);
       // Lit: the normal map's effect under three lights, through each file's
       // own normals and tangents (the decoded ones are rebuilt from new UVs).
       const VertexAttribute *sn = sg.find("NORMAL"), *st = sg.find("TANGENT");
       const VertexAttribute *dn = dg.find("NORMAL"), *dt = dg.find("TANGENT");
       const bool lit = options.lit;
-      if (lit && (!sn || !st || !dn || !dt || st->components != 4 || dt->components != 4 || si.channels() < 3 ||
-                  di.channels() < 3))
-        continue;
+      if (lit && (!sn || !st || !dn || !dt || dt->components != 4 || di.channels() < 3)) continue;
       r.unmatched_faces += match.unmatched_faces;
       r.primitives++;
-      const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());
-      const int channels = lit ? 3 : std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
-      std::vector<float> a(static_cast<size_t>(std::max(3, si.pixels.nchannels()))),
-          b(static_cast<size_t>(std::max(3, di.pixels.nchannels())));
-      const double src_texels = double(si.pixels.spec().width) * si.pixels.spec().height *
-                                std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
+      std::vector<float> b(static_cast<size_t>(std::max(3, di.pixels.nchannels())));
       for (size_t f = 0; f < dg.triangles.size() / 3; ++f) {
         const uint32_t sc0 = match.source_corner[3 * f];
         if (sc0 == 0 && match.source_corner[3 * f + 1] == 0) continue;  // unmatched
+        const TextureSampler& si = *side.samplers[side.candidate_of_face(sc0 / 3)];
+        if (lit && si.channels() < 3) continue;
+        const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());
+        const int channels = lit ? 3 : std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
+        std::vector<float> a(static_cast<size_t>(std::max(3, si.pixels.nchannels())));
+        const double src_texels = double(si.pixels.spec().width) * si.pixels.spec().height *
+                                  std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
         double su[3], sv[3], du[3], dv[3];
         for (int c = 0; c < 3; ++c) {
           const uint32_t sv_id = sg.triangles[match.source_corner[3 * f + c]];

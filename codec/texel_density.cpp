@@ -86,6 +86,41 @@ std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const 
   return d;
 }
 
+std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
+                                          uint32_t patch_count, std::span<const double> face_density,
+                                          double quantile) {
+  std::vector<PatchDensity> out(patch_count);
+  std::vector<std::vector<std::pair<double, double>>> faces(patch_count);  // (density, area)
+  for (size_t f = 0; f < patch_of_face.size(); ++f) {
+    const double* c = &corner_xy[6 * f];
+    const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+    const double d = face_density[f];
+    if (!(a > 0) || !std::isfinite(d) || !(d > 0)) continue;
+    PatchDensity& p = out[patch_of_face[f]];
+    p.area += a, p.squared += a * d * d;
+    faces[patch_of_face[f]].push_back({d, a});
+  }
+  for (uint32_t pi = 0; pi < patch_count; ++pi) {
+    PatchDensity& p = out[pi];
+    auto& dens = faces[pi];
+    if (!(p.area > 0)) continue;
+    if (quantile > 0) {
+      std::sort(dens.begin(), dens.end());
+      const double target = std::min(quantile, 1.0) * p.area;
+      double acc = 0;
+      p.density = dens.back().first;
+      for (const auto& [d, a] : dens)
+        if ((acc += a) >= target) {
+          p.density = d;
+          break;
+        }
+    } else {
+      p.density = std::sqrt(p.squared / p.area);
+    }
+  }
+  return out;
+}
+
 std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height) {
   const size_t nf = std::min(corner_xy.size(), source_uv.size()) / 6;

@@ -71,6 +71,20 @@ std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const 
 std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height);
 
+// One patch's density as the packer scales it (PackOptions::density_quantile).
+struct PatchDensity {
+  double area = 0;     // layout area of its faces with a density
+  double density = 0;  // the area-weighted quantile of their densities (RMS with quantile <= 0); 0: none
+  double squared = 0;  // sum over those faces of area * density^2
+};
+
+// Per patch, from each face's layout (corner_xy, 6 per face) and density
+// (layout_texel_density); faces without area or density are skipped.
+// Requires patch_of_face[f] < patch_count.
+std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
+                                          uint32_t patch_count, std::span<const double> face_density,
+                                          double quantile);
+
 // Global texel scale for a set of primitives that share an atlas.
 TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,
                                     const TexelDensityOptions& options = {});

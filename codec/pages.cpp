@@ -1,0 +1,102 @@
+#include "codec/pages.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "codec/texel_density.h"
+
+namespace gltfwarp {
+namespace {
+
+double size_of(double t) { return std::isfinite(t) && t > 0 ? t : 0.0; }
+
+// Patches that share a vertex with each patch, sorted, without repeats.
+std::vector<std::vector<uint32_t>> patch_neighbours(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                                                    uint32_t patch_count) {
+  std::vector<std::vector<uint32_t>> at_vertex(mesh.vertex_count());
+  for (size_t c = 0; c < mesh.indices.size(); ++c) {
+    auto& list = at_vertex[mesh.indices[c]];
+    const uint32_t p = patch_of_face[c / 3];
+    if (std::find(list.begin(), list.end(), p) == list.end()) list.push_back(p);
+  }
+  std::vector<std::vector<uint32_t>> out(patch_count);
+  for (const auto& list : at_vertex)
+    for (uint32_t a : list)
+      for (uint32_t b : list)
+        if (a != b) out[a].push_back(b);
+  for (auto& n : out) {
+    std::sort(n.begin(), n.end());
+    n.erase(std::unique(n.begin(), n.end()), n.end());
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<size_t>> assign_pages(std::span<const double> texels, double capacity) {
+  std::vector<std::vector<size_t>> pages;
+  std::vector<double> load;
+  for (size_t item = 0; item < texels.size(); ++item) {
+    const double t = size_of(texels[item]);
+    size_t page = 0;
+    while (page < pages.size() && !(load[page] + t <= capacity)) ++page;
+    if (page == pages.size()) {
+      pages.emplace_back();
+      load.push_back(0);
+    }
+    pages[page].push_back(item);
+    load[page] += t;
+  }
+  return pages;
+}
+
+std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
+                                           uint32_t patch_count, std::span<const double> face_density,
+                                           double factor) {
+  std::vector<double> out(patch_count, 0.0);
+  if (face_density.empty()) {
+    for (size_t f = 0; f < patch_of_face.size(); ++f) {
+      const double* c = &corner_xy[6 * f];
+      out[patch_of_face[f]] +=
+          0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * factor * factor;
+    }
+    return out;
+  }
+  const auto dens = patch_densities(corner_xy, patch_of_face, patch_count, face_density, 0.5);
+  for (uint32_t p = 0; p < patch_count; ++p) out[p] = dens[p].area * std::pow(factor * dens[p].density, 2);
+  return out;
+}
+
+std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                                       std::span<const double> patch_texels, double capacity,
+                                       uint32_t& part_count) {
+  const uint32_t patches = uint32_t(patch_texels.size());
+  const auto neighbours = patch_neighbours(mesh, patch_of_face, patches);
+  std::vector<uint32_t> part(patches, 0), queue;
+  std::vector<uint8_t> seen(patches, 0);
+  double load = 0;
+  part_count = 0;
+  for (uint32_t seed = 0; seed < patches; ++seed) {
+    if (seen[seed]) continue;
+    queue.assign(1, seed);
+    seen[seed] = 1;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const uint32_t p = queue[head];
+      const double t = size_of(patch_texels[p]);
+      if (part_count == 0 || (load > 0 && !(load + t <= capacity))) {
+        ++part_count;
+        load = 0;
+      }
+      part[p] = part_count - 1;
+      load += t;
+      for (uint32_t n : neighbours[p])
+        if (!seen[n]) {
+          seen[n] = 1;
+          queue.push_back(n);
+        }
+    }
+  }
+  return part;
+}
+
+}  // namespace gltfwarp

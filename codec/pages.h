@@ -1,0 +1,50 @@
+// Atlas pages: how a texture set too large for one page of --max-atlas-size
+// is spread over several instead of losing detail.
+//
+// A glTF texture slot names one image, so a primitive samples one page. An
+// atlas group spreads its primitives over pages (assign_pages), and a
+// primitive whose texels alone would pass a page is first cut, along its
+// patch boundaries, into parts that each become a primitive of their own
+// (parts_of_patches; codec/cut_primitive.h writes them).
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/mesh.h"
+
+namespace gltfwarp {
+
+// Share of a page's texels that the packer is counted on to cover: the
+// corpus atlases fill 53-75% of their pages (gutters, patch outlines).
+inline constexpr double kExpectedPageFill = 0.55;
+
+// Texels a page of `max_size` squared can be expected to hold.
+inline double page_capacity(uint32_t max_size) { return double(max_size) * double(max_size) * kExpectedPageFill; }
+
+// Groups items (by their texel counts) into pages of `capacity` texels,
+// first-fit in index order. An item larger than a page gets a page of its
+// own. Each page lists its items in increasing index, and pages are ordered
+// by their first item. Non-finite or negative sizes count as 0.
+std::vector<std::vector<size_t>> assign_pages(std::span<const double> texels, double capacity);
+
+// Atlas texels of each patch as the packer scales it: each patch at its
+// faces' median density (patch_densities, from layout_texel_density's
+// face_density) times `factor`, or, with face_density empty, at `factor`
+// texels per layout unit. Before the packer's rounding to scale steps.
+std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
+                                           uint32_t patch_count, std::span<const double> face_density,
+                                           double factor);
+
+// Part (0, 1, ...) of each patch so that each part's texels stay within
+// `capacity` where possible: patches in breadth-first order over shared
+// vertices, each part filled before the next one opens, so every part is
+// one region of neighbouring patches. A patch larger than a page is a part
+// of its own. Cutting between patches adds no seam: their boundary is one
+// already. Requires valid mesh indices and patch_of_face[f] < patch_count.
+std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                                       std::span<const double> patch_texels, double capacity,
+                                       uint32_t& part_count);
+
+}  // namespace gltfwarp
