@@ -177,7 +177,7 @@ std::vector<double> member_texels(const AtlasGroup& group, const ImplicitPlan& p
 // pages (the packer then shrinks the density where they overflow).
 std::vector<std::vector<size_t>> spread_over_pages(std::span<const double> texels, double capacity,
                                                    uint32_t max_pages) {
-  if (max_pages <= 1 || texels.size() < 2) {
+  if (max_pages <= 1 || texels.size() < 2 || !(capacity > 0)) {
     std::vector<size_t> all(texels.size());
     for (size_t k = 0; k < all.size(); ++k) all[k] = k;
     return {all};

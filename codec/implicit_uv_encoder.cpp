@@ -190,6 +190,23 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
 
 namespace {
 
+// The density the atlas will give the faces: per face (face_density, from
+// the layout and the source UVs) times the returned factor, or the fixed
+// --texel-density (face_density left empty).
+double atlas_density(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w, uint32_t image_h,
+                     const EncodeOptions& options, std::vector<double>& face_density) {
+  if (options.texel_density > 0) return options.texel_density;
+  face_density = layout_texel_density(er.corner_xy, ip.source_uv, image_w, image_h);
+  return options.texel_density_factor;
+}
+
+std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w, uint32_t image_h,
+                                const EncodeOptions& options) {
+  std::vector<double> face_density;
+  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
+  return estimated_face_texels(er.corner_xy, face_density, factor);
+}
+
 // When the primitive's patches would take more texels than one page holds
 // (at the density the atlas will give them, codec/pages.h): the part of
 // each source face (read_primitive order), grouping whole patches so the
@@ -199,16 +216,12 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
                                  const EncodeOptions& options) {
   if (options.max_pages <= 1 || image_w == 0 || er.patch_count < 2) return {};
   std::vector<double> face_density;
-  double factor = options.texel_density;  // fixed texels per unit
-  if (!(factor > 0)) {
-    face_density = layout_texel_density(er.corner_xy, ip.source_uv, image_w, image_h);
-    factor = options.texel_density_factor;
-  }
+  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
   const auto texels = estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
   double total = 0;
   for (double t : texels) total += t;
   const double capacity = page_capacity(options.max_atlas_size);
-  if (!(total > capacity)) return {};
+  if (!(capacity > 0) || !(total > capacity)) return {};
   uint32_t parts = 0;
   std::vector<uint32_t> part_of_patch;
   // More parts than pages allowed: fewer, larger ones (their pages then shrink).
@@ -337,6 +350,20 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   if (!face_chart.empty()) eo.max_density_ratio = 32.0;
   Embedding er = embed(ip.tri, eo);
   if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  // A patch larger than a page could not go to pages (a flat ground plane
+  // under a big texture is one patch): its faces are split into regions of
+  // about half a page that no patch may cross, and the mesh is embedded
+  // again, a few times at most.
+  for (int round = 0; round < 3 && options.max_pages > 1 && image_w > 0; ++round) {
+    std::vector<uint32_t> regions =
+        split_large_patches(ip.tri, er.patch_of_face, er.patch_count, face_texels(ip, er, image_w, image_h, options),
+                            page_capacity(options.max_atlas_size), face_chart);
+    if (regions.empty()) break;
+    face_chart = std::move(regions);
+    eo.face_chart = face_chart;
+    er = embed(ip.tri, eo);
+    if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  }
 
   // Too many texels for one atlas page: cut along patch boundaries into
   // parts of about a page each, and start again on the first part (the

@@ -99,4 +99,60 @@ std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint
   return part;
 }
 
+std::vector<double> estimated_face_texels(std::span<const double> corner_xy, std::span<const double> face_density,
+                                          double factor) {
+  std::vector<double> out(corner_xy.size() / 6, 0.0);
+  for (size_t f = 0; f < out.size(); ++f) {
+    const double* c = &corner_xy[6 * f];
+    const double s = face_density.empty() ? factor : factor * face_density[f];
+    out[f] = size_of(0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * s * s);
+  }
+  return out;
+}
+
+std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                                          uint32_t patch_count, std::span<const double> face_texels,
+                                          double capacity, std::span<const uint32_t> chart) {
+  std::vector<double> total(patch_count, 0.0);
+  for (size_t f = 0; f < patch_of_face.size(); ++f) total[patch_of_face[f]] += size_of(face_texels[f]);
+  if (!(capacity > 0) || std::none_of(total.begin(), total.end(), [&](double t) { return t > capacity; })) return {};
+  std::vector<uint32_t> out(patch_of_face.size(), 0);
+  if (!chart.empty()) std::copy(chart.begin(), chart.end(), out.begin());
+  uint32_t next = out.empty() ? 0 : *std::max_element(out.begin(), out.end()) + 1;
+  std::vector<std::vector<uint32_t>> around(mesh.vertex_count());
+  for (size_t c = 0; c < mesh.indices.size(); ++c) around[mesh.indices[c]].push_back(uint32_t(c / 3));
+  std::vector<uint8_t> taken(patch_of_face.size(), 0), queued(patch_of_face.size(), 0);
+  std::vector<uint32_t> queue;
+  // Passes until every face of a large patch has a region: a region's
+  // frontier faces (queued, not taken) may precede its seed.
+  for (bool grew = true; grew;) {
+    grew = false;
+    for (uint32_t seed = 0; seed < patch_of_face.size(); ++seed) {
+      const uint32_t p = patch_of_face[seed];
+      if (taken[seed] || !(total[p] > capacity)) continue;
+      // One region: faces of the same patch and chart around the seed,
+      // until it holds half a page.
+      const uint32_t region = next++, seed_chart = out[seed];
+      double held = 0;
+      queue.assign(1, seed);
+      queued[seed] = 1;
+      for (size_t head = 0; head < queue.size() && held < 0.5 * capacity; ++head) {
+        const uint32_t f = queue[head];
+        out[f] = region;
+        taken[f] = 1;
+        held += size_of(face_texels[f]);
+        for (int k = 0; k < 3; ++k)
+          for (uint32_t g : around[mesh.indices[3 * f + k]])
+            if (!queued[g] && !taken[g] && patch_of_face[g] == p && out[g] == seed_chart) {
+              queued[g] = 1;
+              queue.push_back(g);
+            }
+      }
+      for (const uint32_t f : queue) queued[f] = 0;
+      grew = true;
+    }
+  }
+  return out;
+}
+
 }  // namespace gltfwarp

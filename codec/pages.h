@@ -47,4 +47,21 @@ std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint
                                        std::span<const double> patch_texels, double capacity,
                                        uint32_t& part_count);
 
+// A patch larger than a page cannot be cut between pages. Returns a chart
+// per face (EmbedOptions::face_chart) that keeps `chart` (or, empty, one
+// chart) and splits the faces of every patch whose texels pass `capacity`
+// into connected regions of about half a page each, breadth-first over
+// shared vertices from the region's lowest face: embedded again with it, no
+// patch crosses a region. Empty when no patch passes a page. face_texels:
+// one per face (estimated_face_texels).
+std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                                          uint32_t patch_count, std::span<const double> face_texels,
+                                          double capacity, std::span<const uint32_t> chart);
+
+// Atlas texels of each face at its own density (face_density, from
+// layout_texel_density) times `factor`, or at `factor` texels per layout
+// unit when face_density is empty.
+std::vector<double> estimated_face_texels(std::span<const double> corner_xy, std::span<const double> face_density,
+                                          double factor);
+
 }  // namespace gltfwarp

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <cmath>
 #include <numeric>
 #include <set>
@@ -208,6 +209,41 @@ TEST(Pages, OversizedAtlasSpreadsOverPages) {
   const std::string src = scratch_dir("pages-src") + "/sphere.glb";
   ASSERT_EQ(write_gltf(source, src), "");
   check_pages("sphere", src, 256, "--always-implicit", true);
+}
+
+// A flat plane is one patch, however large its texture: the patch is split
+// into regions that can go to pages of their own.
+TEST(Pages, OnePatchLargerThanAPageIsSplit) {
+  tinygltf::Model source;
+  ASSERT_EQ(make_sample_model("plane", 2000, 512, source), "");
+  const std::string src = scratch_dir("pages-src") + "/plane.glb";
+  ASSERT_EQ(write_gltf(source, src), "");
+  check_pages("plane", src, 160, "--always-implicit", true);
+}
+
+TEST(Pages, LargePatchesSplitIntoRegionsOfHalfAPage) {
+  const ShapeMesh plane = make_plane(40, 40);
+  Embedding er = embed(plane.mesh, EmbedOptions{});
+  ASSERT_EQ(er.status, LayoutStatus::ok);
+  ASSERT_EQ(er.patch_count, 1u);
+  const std::vector<double> texels = estimated_face_texels(er.corner_xy, {}, 100.0);  // 100 texels per unit
+  const double total = std::accumulate(texels.begin(), texels.end(), 0.0);
+  const double capacity = total / 3;
+  EXPECT_TRUE(split_large_patches(plane.mesh, er.patch_of_face, 1, texels, total * 1.01, {}).empty());
+  const auto regions = split_large_patches(plane.mesh, er.patch_of_face, 1, texels, capacity, {});
+  ASSERT_EQ(regions.size(), texels.size());
+  std::map<uint32_t, double> held;
+  for (size_t f = 0; f < regions.size(); ++f) held[regions[f]] += texels[f];
+  EXPECT_GE(held.size(), 6u);
+  const double face_max = *std::max_element(texels.begin(), texels.end());
+  for (const auto& [region, t] : held) EXPECT_LE(t, 0.5 * capacity + face_max) << "region " << region;
+  // Embedded again with the regions as charts, no patch passes a page.
+  EmbedOptions eo;
+  eo.face_chart = regions;
+  er = embed(plane.mesh, eo);
+  ASSERT_EQ(er.status, LayoutStatus::ok);
+  const auto patch = estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, {}, 100.0);
+  for (double t : patch) EXPECT_LE(t, capacity);
 }
 
 TEST(Pages, CorpusModelIsCutForPages) {
