@@ -207,6 +207,64 @@ std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er
   return estimated_face_texels(er.corner_xy, face_density, factor);
 }
 
+constexpr size_t kHalveChartsFromFaces = 100'000;
+
+// Part of each face when the source's texels alone pass one page (their
+// TEXCOORD_0 area times the largest image, or the 3D area at a fixed
+// density); empty otherwise. geom: the primitive as read_primitive gives it.
+std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                        const PrimitiveGeometry& geom, const EncodeOptions& options) {
+  uint32_t width = 0, height = 0;
+  largest_uv0_image(model, prim.material, width, height);
+  const VertexAttribute* pos = geom.find("POSITION");
+  const VertexAttribute* uv = geom.find("TEXCOORD_0");
+  // The layout stretches faces and the atlas matches the stretch (Duck: 1.27
+  // times the source's count): parts sized for 70% of a page by the source's
+  // count seldom need a second cut.
+  const double capacity = 0.7 * page_capacity(options.max_atlas_size);
+  if (options.max_pages <= 1 || width == 0 || !pos || pos->components != 3 || !uv || uv->components != 2 ||
+      !(capacity > 0))
+    return {};
+  std::vector<double> texels(geom.triangles.size() / 3, 0.0);
+  double total = 0;
+  for (size_t f = 0; f < texels.size(); ++f) {
+    const uint32_t* t = &geom.triangles[3 * f];
+    double area = 0;
+    if (options.texel_density > 0) {
+      double e[2][3];
+      for (int k = 0; k < 2; ++k)
+        for (int i = 0; i < 3; ++i) e[k][i] = double(pos->get(t[k + 1], i)) - pos->get(t[0], i);
+      area = 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
+                              e[0][0] * e[1][1] - e[0][1] * e[1][0]) *
+             options.texel_density * options.texel_density;
+    } else {
+      const double du1 = uv->get(t[1], 0) - uv->get(t[0], 0), dv1 = uv->get(t[1], 1) - uv->get(t[0], 1);
+      const double du2 = uv->get(t[2], 0) - uv->get(t[0], 0), dv2 = uv->get(t[2], 1) - uv->get(t[0], 1);
+      area = 0.5 * std::abs(du1 * dv2 - dv1 * du2) * double(width) * height * options.texel_density_factor *
+             options.texel_density_factor;
+    }
+    texels[f] = std::isfinite(area) ? area : 0.0;
+    total += texels[f];
+  }
+  if (!(total > capacity)) return {};
+  const std::vector<float> positions = pos->to_floats();
+  // Halving a UV chart cuts through its texture: a new seam, where the cut
+  // along patches after the partition adds none but embeds the mesh twice.
+  // That second embedding only weighs on large meshes. Measured: a 3000-face
+  // sphere at --max-atlas-size 256 is 38.4 dB halved, 41.7 cut along
+  // patches; the 1M-face sample at 4096 encodes in 52 s halved, 81 s not.
+  const bool halve = texels.size() >= kHalveChartsFromFaces;
+  uint32_t parts = 0;
+  std::vector<uint32_t> part_of_face;
+  // More parts than pages allowed: fewer, larger ones (their pages then shrink).
+  for (double c = capacity;; c *= 1.25) {
+    part_of_face = split_faces_into_parts(geom.triangles, positions, texels, c, halve, parts);
+    if (parts <= options.max_pages) break;
+  }
+  if (parts < 2) return {};
+  return part_of_face;
+}
+
 // When the primitive's patches would take more texels than one page holds
 // (at the density the atlas will give them, codec/pages.h): the part of
 // each source face (read_primitive order), grouping whole patches so the
@@ -244,6 +302,29 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
   return part_of_face;
 }
 
+// Cuts the primitive (its source geometry `source`, one part per face) into
+// parts appended to its mesh, records the cut (undo_fallen_back_cuts) and
+// prepares the first part in its place; the encoder's loop reaches the
+// others.
+std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& source,
+                                  std::span<const uint32_t> part_of_face, ImplicitPlan& plan,
+                                  const EncodeOptions& options, std::vector<int>& replaced, PrimitiveReport& pr) {
+  const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
+  const int group = plan.group_of.at({pr.mesh, pr.primitive});
+  PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
+  cut.appended = cut_primitive(model, pr.mesh, pr.primitive, source, part_of_face, parts, replaced);
+  for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
+  plan.cuts.push_back(std::move(cut));
+  tinygltf::Primitive& first = model.meshes[pr.mesh].primitives[pr.primitive];
+  PrimitiveGeometry part;
+  if (std::string err = read_primitive(model, first, part); !err.empty()) return err;
+  pr.triangles = part.triangles.size() / 3;
+  pr.vertices = part.vertex_count();
+  pr.geometry_bytes = 0;
+  pr.cut_parts = std::max(pr.cut_parts, parts);
+  return prepare_implicit_primitive(model, first, part, plan, options, replaced, pr);
+}
+
 }  // namespace
 
 std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
@@ -262,6 +343,12 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
       source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
       if (!std::isfinite(source_corner_uv[2 * c + i])) return "TEXCOORD_0 holds a NaN or infinite value";
     }
+  // Clearly more texels than one atlas page holds, by the source's own
+  // count: cut along the source's UV charts before the costly steps (Draco,
+  // the partition), so each part is embedded once. What this estimate
+  // misses (the layout's stretch) the cut along patches below catches.
+  if (std::vector<uint32_t> part_of_face = source_page_parts(model, prim, geom, options); !part_of_face.empty())
+    return cut_and_prepare_first(model, geom, part_of_face, plan, options, replaced, pr);
   // A source TANGENT is the frame viewers light the source's normal map in:
   // the warp re-expresses normals from it (else from MikkTSpace on the UVs).
   std::vector<float> source_corner_tangent;
@@ -373,20 +460,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     PrimitiveGeometry source;
     if (std::string err = read_primitive(model, ip.source_primitive, source); !err.empty()) return err;
     for (size_t i = accessors_before; i < model.accessors.size(); ++i) replaced.push_back(static_cast<int>(i));
-    const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
-    const int group = plan.group_of.at({pr.mesh, pr.primitive});
-    PrimitiveCut cut{ip.mesh, ip.primitive, ip.source_primitive, {}};
-    cut.appended = cut_primitive(model, ip.mesh, ip.primitive, source, part_of_face, parts, replaced);
-    for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
-    plan.cuts.push_back(std::move(cut));
-    tinygltf::Primitive& first = model.meshes[ip.mesh].primitives[ip.primitive];
-    PrimitiveGeometry part;
-    if (std::string err = read_primitive(model, first, part); !err.empty()) return err;
-    pr.triangles = part.triangles.size() / 3;
-    pr.vertices = part.vertex_count();
-    pr.geometry_bytes = 0;
-    pr.cut_parts = std::max(pr.cut_parts, parts);
-    return prepare_implicit_primitive(model, first, part, plan, options, replaced, pr);
+    return cut_and_prepare_first(model, source, part_of_face, plan, options, replaced, pr);
   }
 
   // Commit: the trial becomes the primitive. TEXCOORD_0 stays declared,

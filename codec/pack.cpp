@@ -599,8 +599,11 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     const double cap = double(max_size) * max_size * options.max_pages;
     if (texel_area > 0.9 * cap) {
-      scale = double(float(scale * std::max(0.5, std::min(options.shrink_factor,
-                                                           std::sqrt(0.8 * cap / texel_area)))));
+      // Far too large (a scale floored by auto_texel_scale on a model of
+      // 1e30 units): straight to the footprint that fits, not by halves,
+      // which 60 retries cannot carry past a factor of 2^-60.
+      scale = double(float(scale * std::max(1e-12, std::min(options.shrink_factor,
+                                                             std::sqrt(0.8 * cap / texel_area)))));
       ++result.report.shrink_retries;
       continue;
     }

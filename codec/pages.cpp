@@ -155,4 +155,76 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
   return out;
 }
 
+std::vector<uint32_t> split_faces_into_parts(std::span<const uint32_t> triangles, std::span<const float> positions,
+                                             std::span<const double> face_texels, double capacity,
+                                             bool halve_pieces, uint32_t& part_count) {
+  const size_t faces = triangles.size() / 3, vertex_count = positions.size() / 3;
+  std::vector<std::vector<uint32_t>> around(vertex_count);
+  for (size_t c = 0; c < triangles.size(); ++c) around[triangles[c]].push_back(uint32_t(c / 3));
+  std::vector<uint32_t> piece(faces, 0), queue;
+  std::vector<double> piece_texels;
+  std::vector<uint8_t> seen(faces, 0);
+  auto centroid = [&](uint32_t f, int axis) {
+    double c = 0;
+    for (int k = 0; k < 3; ++k) c += positions[3 * size_t(triangles[3 * f + k]) + axis];
+    return c;
+  };
+  // Halves a set of faces across the longest side of its centroids' box, at
+  // the texel-weighted median, until each half fits: compact pieces, where
+  // runs of a breadth-first order would be rings (a band around a sphere
+  // unfolds into a strip no page holds).
+  auto bisect = [&](auto&& self, std::span<uint32_t> set, double total) -> void {
+    if (total <= capacity || set.size() < 2 || !halve_pieces) {
+      piece_texels.push_back(total);
+      for (uint32_t f : set) piece[f] = uint32_t(piece_texels.size() - 1);
+      return;
+    }
+    int axis = 0;
+    double extent = -1;
+    for (int i = 0; i < 3; ++i) {
+      double lo = 1e300, hi = -1e300;
+      for (uint32_t f : set) lo = std::min(lo, centroid(f, i)), hi = std::max(hi, centroid(f, i));
+      if (hi - lo > extent) extent = hi - lo, axis = i;
+    }
+    std::sort(set.begin(), set.end(), [&](uint32_t x, uint32_t y) {
+      const double cx = centroid(x, axis), cy = centroid(y, axis);
+      return cx < cy || (cx == cy && x < y);
+    });
+    size_t half = 0;
+    double low = 0;
+    while (half + 1 < set.size() && low + size_of(face_texels[set[half]]) <= 0.5 * total)
+      low += size_of(face_texels[set[half++]]);
+    half = std::max<size_t>(half, 1);
+    low = 0;
+    for (size_t i = 0; i < half; ++i) low += size_of(face_texels[set[i]]);
+    self(self, set.subspan(0, half), low);
+    self(self, set.subspan(half), total - low);
+  };
+  for (uint32_t seed = 0; seed < faces; ++seed) {
+    if (seen[seed]) continue;
+    queue.assign(1, seed);
+    seen[seed] = 1;
+    double total = 0;
+    for (size_t head = 0; head < queue.size(); ++head) {
+      const uint32_t f = queue[head];
+      total += size_of(face_texels[f]);
+      for (int k = 0; k < 3; ++k)
+        for (uint32_t g : around[triangles[3 * f + k]])
+          if (!seen[g]) {
+            seen[g] = 1;
+            queue.push_back(g);
+          }
+    }
+    bisect(bisect, queue, total);
+  }
+  const auto pages = assign_pages(piece_texels, capacity);
+  std::vector<uint32_t> part_of_piece(piece_texels.size(), 0);
+  for (size_t p = 0; p < pages.size(); ++p)
+    for (size_t item : pages[p]) part_of_piece[item] = uint32_t(p);
+  std::vector<uint32_t> part(faces, 0);
+  for (size_t f = 0; f < faces; ++f) part[f] = part_of_piece[piece[f]];
+  part_count = uint32_t(pages.size());
+  return part;
+}
+
 }  // namespace gltfwarp

@@ -3,9 +3,12 @@
 //
 // A glTF texture slot names one image, so a primitive samples one page. An
 // atlas group spreads its primitives over pages (assign_pages), and a
-// primitive whose texels alone would pass a page is first cut, along its
-// patch boundaries, into parts that each become a primitive of their own
-// (parts_of_patches; codec/cut_primitive.h writes them).
+// primitive whose texels alone would pass a page is first cut into parts
+// that each become a primitive of their own (codec/cut_primitive.h writes
+// them): along its source UV charts by the source's texel count, before it
+// is partitioned (split_faces_into_parts), then along its patch boundaries
+// by the layout's count (parts_of_patches), after any patch larger than a
+// page was split (split_large_patches).
 #pragma once
 
 #include <cstdint>
@@ -46,6 +49,18 @@ std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, st
 std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                                        std::span<const double> patch_texels, double capacity,
                                        uint32_t& part_count);
+
+// Part (0, 1, ...) of each face of a triangle list, before any partition
+// exists: faces that share a vertex stay together (in a glTF mesh a UV seam
+// splits its vertices, so these pieces are the source's UV charts: cutting
+// between them adds no seam), with `halve_pieces` a piece larger than
+// `capacity` is halved across the longest side of its box of face centroids
+// until each half fits (else it is a part of its own), and the pieces go
+// to parts with assign_pages. positions: xyz per vertex; indices must be
+// below the vertex count; one texel count per face.
+std::vector<uint32_t> split_faces_into_parts(std::span<const uint32_t> triangles, std::span<const float> positions,
+                                             std::span<const double> face_texels, double capacity,
+                                             bool halve_pieces, uint32_t& part_count);
 
 // A patch larger than a page cannot be cut between pages. Returns a chart
 // per face (EmbedOptions::face_chart) that keeps `chart` (or, empty, one
