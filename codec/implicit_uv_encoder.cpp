@@ -70,6 +70,18 @@ std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, Implici
 }
 
 
+// The materials a KHR_materials_variants primitive extension maps to.
+std::vector<int> variant_materials(const tinygltf::Value& ext) {
+  std::vector<int> out;
+  if (!ext.IsObject() || !ext.Has("mappings") || !ext.Get("mappings").IsArray()) return out;
+  const tinygltf::Value& mappings = ext.Get("mappings");
+  for (size_t i = 0; i < mappings.ArrayLen(); ++i) {
+    const tinygltf::Value& m = mappings.Get(int(i));
+    if (m.IsObject() && m.Has("material")) out.push_back(value_index(m.Get("material")));
+  }
+  return out;
+}
+
 }  // namespace
 
 // The material's TEXCOORD_0 textures as a viewer samples them; empty when
@@ -128,6 +140,12 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
           blocker = "texture " + std::to_string(s.texture) + " has no image";
         if (!blocker.empty()) break;
       }
+      // A material variant (KHR_materials_variants) that samples TEXCOORD_0
+      // textures would sample them through the atlas UVs.
+      if (const auto v = prim.extensions.find("KHR_materials_variants"); blocker.empty() && v != prim.extensions.end())
+        for (const int material : variant_materials(v->second))
+          if (material != prim.material && !uv0_slots(model, material).empty())
+            blocker = "material variant " + std::to_string(material) + " samples TEXCOORD_0 textures";
       if (!blocker.empty()) {
         report.notes.push_back("mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
                                ": explicit UVs kept, " + blocker + " that the warp cannot rewrite");
@@ -504,7 +522,6 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   pr.unmatched_faces = match.unmatched_faces;
   return {};
 }
-
 
 std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                   std::vector<int>& replaced, EncodeReport& report) {

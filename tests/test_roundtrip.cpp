@@ -214,6 +214,36 @@ TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
   EXPECT_FALSE(dext.Get("attributes").Has("TEXCOORD_0"));
 }
 
+// A material variant (KHR_materials_variants) that samples TEXCOORD_0
+// textures would sample them through the atlas UVs: the primitive keeps
+// explicit UVs, and says why. A variant without such textures does not
+// stop the implicit UVs.
+TEST(GeneratedRoundTrip, TexturedMaterialVariantKeepsExplicitUvs) {
+  for (const bool textured : {true, false}) {
+    SCOPED_TRACE(textured ? "textured variant" : "untextured variant");
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model("sphere", 1000, 128, model), "");
+    tinygltf::Material variant = model.materials[0];
+    if (!textured) variant.pbrMetallicRoughness.baseColorTexture = tinygltf::TextureInfo{};
+    model.materials.push_back(variant);
+    tinygltf::Value::Object mapping;
+    mapping["material"] = tinygltf::Value(1);
+    mapping["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0)});
+    tinygltf::Value::Object ext;
+    ext["mappings"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(mapping)});
+    model.meshes[0].primitives[0].extensions["KHR_materials_variants"] = tinygltf::Value(ext);
+    EncodeOptions o;
+    o.quality_fallback = false;
+    EncodeReport report;
+    ASSERT_EQ(encode_model(model, o, report), "");
+    const bool implicit = model.meshes[0].primitives[0].extensions.count(ext::kName) > 0;
+    EXPECT_EQ(implicit, !textured);
+    bool said = false;
+    for (const std::string& note : report.notes) said = said || note.find("material variant 1") != std::string::npos;
+    EXPECT_EQ(said, textured);
+  }
+}
+
 // A primitive whose atlas cannot reach the quality floor even at twice the
 // density keeps explicit UVs (VertexColorTest's 1-texel text at arbitrary
 // sub-texel offsets); --always-implicit replaces it anyway.
