@@ -569,7 +569,9 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
     const std::string tag = mesh_tag + std::to_string(cut->primitive) + " cut into";
     std::erase_if(report.notes, [&](const std::string& n) { return n.rfind(tag, 0) == 0; });
   }
-  for (auto& [mesh, parts] : erased) {
+  for (auto& entry_of_mesh : erased) {
+    const int mesh = entry_of_mesh.first;  // a plain variable: lambdas below capture it
+    std::vector<int>& parts = entry_of_mesh.second;
     std::sort(parts.rbegin(), parts.rend());
     for (int p : parts) {
       auto& prims = model.meshes[mesh].primitives;
