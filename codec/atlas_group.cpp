@@ -182,10 +182,12 @@ std::vector<std::vector<size_t>> spread_over_pages(std::span<const double> texel
     for (size_t k = 0; k < all.size(); ++k) all[k] = k;
     return {all};
   }
-  for (;; capacity *= 1.25) {
-    auto pages = assign_pages(texels, capacity);
-    if (pages.size() <= max_pages) return pages;
-  }
+  uint32_t count = 0;
+  return within_part_count(capacity, max_pages, [&](double c, uint32_t& n) {
+    auto pages = assign_pages(texels, c);
+    n = uint32_t(pages.size());
+    return pages;
+  }, count);
 }
 
 // Packs each page of out.pages on its own: out.maps, page_of_member and
@@ -333,10 +335,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     const auto& ip = plan.prims[group.members[k]];
     const UvMap& map = out.maps[k];
     for (size_t f = 0; f < ip.patch_of_face.size(); ++f) {
-      const double* c = &ip.corner_xy[6 * f];
       const double s = double(map.texel_scale) * patch_scale(map.placements[ip.patch_of_face[f]].scale_step);
-      out.patch_texels[group_patch[k][f]] +=
-          0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * s * s;
+      out.patch_texels[group_patch[k][f]] += layout_face_area(ip.corner_xy, f) * s * s;
     }
   }
 
@@ -529,24 +529,14 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
 std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options,
                                  std::vector<int>& replaced, PrimitiveReport& pr, const std::string& why) {
   tinygltf::Primitive& prim = model.meshes[ip.mesh].primitives[ip.primitive];
-  for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);  // the implicit ones
-  if (prim.indices >= 0) replaced.push_back(prim.indices);
-  prim = ip.source_primitive;
   PrimitiveGeometry geom;
-  std::string err = read_primitive(model, prim, geom);
-  if (!err.empty()) return err;
   pr.geometry_bytes = 0;
   pr.bitstream_bytes = 0;
   pr.patches = 0;
   pr.atlas = -1;
-  if (options.raw_geometry) {
-    write_primitive_plain(model, prim, geom, replaced);
-    pr.geometry_bytes = plain_geometry_bytes(geom);
-  } else {
-    PrimitiveGeometry decoded;
-    err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, pr.geometry_bytes);
-    if (!err.empty()) return err;
-  }
+  if (std::string err = rewrite_explicit(model, prim, ip.source_primitive, options, replaced, geom, pr.geometry_bytes);
+      !err.empty())
+    return err;
   pr.handling = "fallback: explicit UVs kept (" + why + ")";
   return {};
 }

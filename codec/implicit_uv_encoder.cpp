@@ -229,43 +229,36 @@ constexpr size_t kHalveChartsFromFaces = 100'000;
 
 // Part of each face when the source's texels alone pass one page (their
 // TEXCOORD_0 area times the largest image, or the 3D area at a fixed
-// density); empty otherwise. geom: the primitive as read_primitive gives it.
+// density); empty otherwise. geom: the primitive as read_primitive gives it;
+// source_corner_uv: its TEXCOORD_0 per corner.
 std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                                        const PrimitiveGeometry& geom, const EncodeOptions& options) {
+                                        const PrimitiveGeometry& geom, std::span<const float> source_corner_uv,
+                                        const EncodeOptions& options) {
   uint32_t width = 0, height = 0;
   largest_uv0_image(model, prim.material, width, height);
   const VertexAttribute* pos = geom.find("POSITION");
-  const VertexAttribute* uv = geom.find("TEXCOORD_0");
   // The layout stretches faces and the atlas matches the stretch (Duck: 1.27
   // times the source's count): parts sized for 70% of a page by the source's
   // count seldom need a second cut.
   const double capacity = 0.7 * page_capacity(options.max_atlas_size);
-  if (options.max_pages <= 1 || width == 0 || !pos || pos->components != 3 || !uv || uv->components != 2 ||
-      !(capacity > 0))
-    return {};
+  if (options.max_pages <= 1 || width == 0 || !pos || pos->components != 3 || !(capacity > 0)) return {};
+  TriMesh mesh;  // built only when needed: for 3D areas, and for the cut
+  auto build_mesh = [&] {
+    if (mesh.indices.empty()) mesh = TriMesh{pos->to_floats(), geom.triangles};
+  };
+  if (options.texel_density > 0) build_mesh();
   std::vector<double> texels(geom.triangles.size() / 3, 0.0);
   double total = 0;
-  for (size_t f = 0; f < texels.size(); ++f) {
-    const uint32_t* t = &geom.triangles[3 * f];
-    double area = 0;
-    if (options.texel_density > 0) {
-      double e[2][3];
-      for (int k = 0; k < 2; ++k)
-        for (int i = 0; i < 3; ++i) e[k][i] = double(pos->get(t[k + 1], i)) - pos->get(t[0], i);
-      area = 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
-                              e[0][0] * e[1][1] - e[0][1] * e[1][0]) *
-             options.texel_density * options.texel_density;
-    } else {
-      const double du1 = uv->get(t[1], 0) - uv->get(t[0], 0), dv1 = uv->get(t[1], 1) - uv->get(t[0], 1);
-      const double du2 = uv->get(t[2], 0) - uv->get(t[0], 0), dv2 = uv->get(t[2], 1) - uv->get(t[0], 1);
-      area = 0.5 * std::abs(du1 * dv2 - dv1 * du2) * double(width) * height * options.texel_density_factor *
-             options.texel_density_factor;
-    }
+  for (uint32_t f = 0; f < texels.size(); ++f) {
+    const double area = options.texel_density > 0
+                            ? face_area3d(mesh, f) * options.texel_density * options.texel_density
+                            : face_area_texels(source_corner_uv, f, width, height) * options.texel_density_factor *
+                                  options.texel_density_factor;
     texels[f] = std::isfinite(area) ? area : 0.0;
     total += texels[f];
   }
   if (!(total > capacity)) return {};
-  const std::vector<float> positions = pos->to_floats();
+  build_mesh();
   // Halving a UV chart cuts through its texture: a new seam, where the cut
   // along patches after the partition adds none but embeds the mesh twice.
   // That second embedding only weighs on large meshes. Measured: a 3000-face
@@ -273,12 +266,9 @@ std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tiny
   // patches; the 1M-face sample at 4096 encodes in 52 s halved, 81 s not.
   const bool halve = texels.size() >= kHalveChartsFromFaces;
   uint32_t parts = 0;
-  std::vector<uint32_t> part_of_face;
-  // More parts than pages allowed: fewer, larger ones (their pages then shrink).
-  for (double c = capacity;; c *= 1.25) {
-    part_of_face = split_faces_into_parts(geom.triangles, positions, texels, c, halve, parts);
-    if (parts <= options.max_pages) break;
-  }
+  std::vector<uint32_t> part_of_face = within_part_count(capacity, options.max_pages, [&](double c, uint32_t& n) {
+    return split_faces_into_parts(mesh, texels, c, halve, n);
+  }, parts);
   if (parts < 2) return {};
   return part_of_face;
 }
@@ -299,12 +289,10 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
   const double capacity = page_capacity(options.max_atlas_size);
   if (!(capacity > 0) || !(total > capacity)) return {};
   uint32_t parts = 0;
-  std::vector<uint32_t> part_of_patch;
-  // More parts than pages allowed: fewer, larger ones (their pages then shrink).
-  for (double c = capacity;; c *= 1.25) {
-    part_of_patch = parts_of_patches(ip.tri, er.patch_of_face, texels, c, parts);
-    if (parts <= options.max_pages) break;
-  }
+  const std::vector<uint32_t> part_of_patch =
+      within_part_count(capacity, options.max_pages, [&](double c, uint32_t& n) {
+        return parts_of_patches(ip.tri, er.patch_of_face, texels, c, n);
+      }, parts);
   if (parts < 2) return {};
   // Back to the source's faces. A source face no decoded face came from
   // (one Draco dropped as degenerate) goes to the first part.
@@ -365,7 +353,8 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   // count: cut along the source's UV charts before the costly steps (Draco,
   // the partition), so each part is embedded once. What this estimate
   // misses (the layout's stretch) the cut along patches below catches.
-  if (std::vector<uint32_t> part_of_face = source_page_parts(model, prim, geom, options); !part_of_face.empty())
+  if (std::vector<uint32_t> part_of_face = source_page_parts(model, prim, geom, source_corner_uv, options);
+      !part_of_face.empty())
     return cut_and_prepare_first(model, geom, part_of_face, plan, options, replaced, pr);
   // A source TANGENT is the frame viewers light the source's normal map in:
   // the warp re-expresses normals from it (else from MikkTSpace on the UVs).
@@ -523,6 +512,23 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   return {};
 }
 
+std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
+                             const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
+                             size_t& bytes) {
+  for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
+  if (prim.indices >= 0) replaced.push_back(prim.indices);
+  prim = source;
+  bytes = 0;
+  if (std::string err = read_primitive(model, prim, geom); !err.empty()) return err;
+  if (options.raw_geometry) {
+    write_primitive_plain(model, prim, geom, replaced);
+    bytes = plain_geometry_bytes(geom);
+    return {};
+  }
+  PrimitiveGeometry decoded;
+  return write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
+}
+
 std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                   std::vector<int>& replaced, EncodeReport& report) {
   auto entry = [&](int mesh, int primitive) -> PrimitiveReport* {
@@ -537,25 +543,13 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
     if (!is_fallback(first) ||
         !std::all_of(cut->appended.begin(), cut->appended.end(), [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
       continue;
-    tinygltf::Primitive& prim = model.meshes[cut->mesh].primitives[cut->primitive];
-    for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
-    if (prim.indices >= 0) replaced.push_back(prim.indices);
-    prim = cut->original;
     PrimitiveGeometry geom;
-    if (std::string err = read_primitive(model, prim, geom); !err.empty()) return err;
+    if (std::string err = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive], cut->original,
+                                           options, replaced, geom, first->geometry_bytes);
+        !err.empty())
+      return err;
     first->triangles = geom.triangles.size() / 3;
     first->vertices = geom.vertex_count();
-    first->geometry_bytes = 0;
-    if (options.raw_geometry) {
-      write_primitive_plain(model, prim, geom, replaced);
-      first->geometry_bytes = plain_geometry_bytes(geom);
-    } else {
-      PrimitiveGeometry decoded;
-      if (std::string err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded,
-                                                  first->geometry_bytes);
-          !err.empty())
-        return err;
-    }
     first->cut_parts = 0;
     // The parts' lines in the report and the notes go; the whole's stays.
     const std::string mesh_tag = "mesh " + std::to_string(cut->mesh) + " primitive ";

@@ -72,6 +72,14 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
                                        ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& report);
 
+// Puts `source` back in place of `prim` (whose accessors go to `replaced`)
+// and writes its geometry with explicit UVs, as Draco or raw arrays: what
+// the encoder writes for a primitive that keeps them. `geom` receives the
+// geometry, `bytes` what it costs. "" or a one-line error.
+std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
+                             const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
+                             size_t& bytes);
+
 // Undoes, latest first, every cut whose parts all kept explicit UVs: the
 // primitive is written whole again (as the encoder writes any primitive
 // with explicit UVs), its parts leave the mesh, and the report's entries

@@ -588,7 +588,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       double area = 0, x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
       for (uint32_t f : p.faces) {
         const double* c = &pr.corner_xy[6 * size_t(f)];
-        area += 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+        area += layout_face_area(pr.corner_xy, f);
         for (int v = 0; v < 3; ++v) {
           x0 = std::min(x0, c[2 * v]), x1 = std::max(x1, c[2 * v]);
           y0 = std::min(y0, c[2 * v + 1]), y1 = std::max(y1, c[2 * v + 1]);

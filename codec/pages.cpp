@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "codec/texel_density.h"
+#include "codec/topology.h"
 
 namespace gltfwarp {
 namespace {
@@ -11,19 +12,20 @@ namespace {
 double size_of(double t) { return std::isfinite(t) && t > 0 ? t : 0.0; }
 
 // Patches that share a vertex with each patch, sorted, without repeats.
-std::vector<std::vector<uint32_t>> patch_neighbours(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                                                    uint32_t patch_count) {
-  std::vector<std::vector<uint32_t>> at_vertex(mesh.vertex_count());
-  for (size_t c = 0; c < mesh.indices.size(); ++c) {
-    auto& list = at_vertex[mesh.indices[c]];
-    const uint32_t p = patch_of_face[c / 3];
-    if (std::find(list.begin(), list.end(), p) == list.end()) list.push_back(p);
-  }
+std::vector<std::vector<uint32_t>> patch_neighbours(const TriMesh& mesh, const VertexFaces& around,
+                                                    std::span<const uint32_t> patch_of_face, uint32_t patch_count) {
   std::vector<std::vector<uint32_t>> out(patch_count);
-  for (const auto& list : at_vertex)
-    for (uint32_t a : list)
-      for (uint32_t b : list)
+  std::vector<uint32_t> here;  // the patches at one vertex
+  for (uint32_t v = 0; v < mesh.vertex_count(); ++v) {
+    here.clear();
+    for (uint32_t i = around.offsets[v]; i < around.offsets[v + 1]; ++i) {
+      const uint32_t p = patch_of_face[around.faces[i]];
+      if (std::find(here.begin(), here.end(), p) == here.end()) here.push_back(p);
+    }
+    for (uint32_t a : here)
+      for (uint32_t b : here)
         if (a != b) out[a].push_back(b);
+  }
   for (auto& n : out) {
     std::sort(n.begin(), n.end());
     n.erase(std::unique(n.begin(), n.end()), n.end());
@@ -54,12 +56,9 @@ std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, st
                                            uint32_t patch_count, std::span<const double> face_density,
                                            double factor) {
   std::vector<double> out(patch_count, 0.0);
-  if (face_density.empty()) {
-    for (size_t f = 0; f < patch_of_face.size(); ++f) {
-      const double* c = &corner_xy[6 * f];
-      out[patch_of_face[f]] +=
-          0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * factor * factor;
-    }
+  if (face_density.empty()) {  // one density: the faces' own texels
+    const auto faces = estimated_face_texels(corner_xy, {}, factor);
+    for (size_t f = 0; f < patch_of_face.size(); ++f) out[patch_of_face[f]] += faces[f];
     return out;
   }
   const auto dens = patch_densities(corner_xy, patch_of_face, patch_count, face_density, 0.5);
@@ -71,7 +70,7 @@ std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint
                                        std::span<const double> patch_texels, double capacity,
                                        uint32_t& part_count) {
   const uint32_t patches = uint32_t(patch_texels.size());
-  const auto neighbours = patch_neighbours(mesh, patch_of_face, patches);
+  const auto neighbours = patch_neighbours(mesh, build_vertex_faces(mesh), patch_of_face, patches);
   std::vector<uint32_t> part(patches, 0), queue;
   std::vector<uint8_t> seen(patches, 0);
   double load = 0;
@@ -103,9 +102,8 @@ std::vector<double> estimated_face_texels(std::span<const double> corner_xy, std
                                           double factor) {
   std::vector<double> out(corner_xy.size() / 6, 0.0);
   for (size_t f = 0; f < out.size(); ++f) {
-    const double* c = &corner_xy[6 * f];
     const double s = face_density.empty() ? factor : factor * face_density[f];
-    out[f] = size_of(0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0])) * s * s);
+    out[f] = size_of(layout_face_area(corner_xy, f) * s * s);
   }
   return out;
 }
@@ -119,8 +117,7 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
   std::vector<uint32_t> out(patch_of_face.size(), 0);
   if (!chart.empty()) std::copy(chart.begin(), chart.end(), out.begin());
   uint32_t next = out.empty() ? 0 : *std::max_element(out.begin(), out.end()) + 1;
-  std::vector<std::vector<uint32_t>> around(mesh.vertex_count());
-  for (size_t c = 0; c < mesh.indices.size(); ++c) around[mesh.indices[c]].push_back(uint32_t(c / 3));
+  const VertexFaces around = build_vertex_faces(mesh);
   std::vector<uint8_t> taken(patch_of_face.size(), 0), queued(patch_of_face.size(), 0);
   std::vector<uint32_t> queue;
   // Passes until every face of a large patch has a region: a region's
@@ -141,12 +138,16 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
         out[f] = region;
         taken[f] = 1;
         held += size_of(face_texels[f]);
-        for (int k = 0; k < 3; ++k)
-          for (uint32_t g : around[mesh.indices[3 * f + k]])
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t v = mesh.indices[3 * f + k];
+          for (uint32_t i = around.offsets[v]; i < around.offsets[v + 1]; ++i) {
+            const uint32_t g = around.faces[i];
             if (!queued[g] && !taken[g] && patch_of_face[g] == p && out[g] == seed_chart) {
               queued[g] = 1;
               queue.push_back(g);
             }
+          }
+        }
       }
       for (const uint32_t f : queue) queued[f] = 0;
       grew = true;
@@ -155,18 +156,16 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
   return out;
 }
 
-std::vector<uint32_t> split_faces_into_parts(std::span<const uint32_t> triangles, std::span<const float> positions,
-                                             std::span<const double> face_texels, double capacity,
-                                             bool halve_pieces, uint32_t& part_count) {
-  const size_t faces = triangles.size() / 3, vertex_count = positions.size() / 3;
-  std::vector<std::vector<uint32_t>> around(vertex_count);
-  for (size_t c = 0; c < triangles.size(); ++c) around[triangles[c]].push_back(uint32_t(c / 3));
+std::vector<uint32_t> split_faces_into_parts(const TriMesh& mesh, std::span<const double> face_texels,
+                                             double capacity, bool halve_pieces, uint32_t& part_count) {
+  const size_t faces = mesh.face_count();
+  const VertexFaces around = build_vertex_faces(mesh);
   std::vector<uint32_t> piece(faces, 0), queue;
   std::vector<double> piece_texels;
   std::vector<uint8_t> seen(faces, 0);
   auto centroid = [&](uint32_t f, int axis) {
     double c = 0;
-    for (int k = 0; k < 3; ++k) c += positions[3 * size_t(triangles[3 * f + k]) + axis];
+    for (int k = 0; k < 3; ++k) c += mesh.positions[3 * size_t(mesh.indices[3 * f + k]) + axis];
     return c;
   };
   // Halves a set of faces across the longest side of its centroids' box, at
@@ -208,12 +207,14 @@ std::vector<uint32_t> split_faces_into_parts(std::span<const uint32_t> triangles
     for (size_t head = 0; head < queue.size(); ++head) {
       const uint32_t f = queue[head];
       total += size_of(face_texels[f]);
-      for (int k = 0; k < 3; ++k)
-        for (uint32_t g : around[triangles[3 * f + k]])
-          if (!seen[g]) {
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t v = mesh.indices[3 * f + k];
+        for (uint32_t i = around.offsets[v]; i < around.offsets[v + 1]; ++i)
+          if (const uint32_t g = around.faces[i]; !seen[g]) {
             seen[g] = 1;
             queue.push_back(g);
           }
+      }
     }
     bisect(bisect, queue, total);
   }

@@ -11,6 +11,7 @@
 // page was split (split_large_patches).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -40,6 +41,19 @@ std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, st
                                            uint32_t patch_count, std::span<const double> face_density,
                                            double factor);
 
+// split(capacity, count) with the capacity raised by a quarter at a time
+// until it makes at most max_count parts: past the pages allowed, fewer,
+// larger parts (their pages then shrink to fit). `count` receives the
+// final number of parts. Stops once the capacity is no longer a positive
+// finite number.
+template <class Split>
+auto within_part_count(double capacity, uint32_t max_count, Split split, uint32_t& count) {
+  for (;; capacity *= 1.25) {
+    auto parts = split(capacity, count);
+    if (count <= max_count || !(capacity > 0) || !std::isfinite(capacity)) return parts;
+  }
+}
+
 // Part (0, 1, ...) of each patch so that each part's texels stay within
 // `capacity` where possible: patches in breadth-first order over shared
 // vertices, each part filled before the next one opens, so every part is
@@ -56,11 +70,10 @@ std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint
 // between them adds no seam), with `halve_pieces` a piece larger than
 // `capacity` is halved across the longest side of its box of face centroids
 // until each half fits (else it is a part of its own), and the pieces go
-// to parts with assign_pages. positions: xyz per vertex; indices must be
-// below the vertex count; one texel count per face.
-std::vector<uint32_t> split_faces_into_parts(std::span<const uint32_t> triangles, std::span<const float> positions,
-                                             std::span<const double> face_texels, double capacity,
-                                             bool halve_pieces, uint32_t& part_count);
+// to parts with assign_pages. Requires valid mesh indices and one texel
+// count per face.
+std::vector<uint32_t> split_faces_into_parts(const TriMesh& mesh, std::span<const double> face_texels,
+                                             double capacity, bool halve_pieces, uint32_t& part_count);
 
 // A patch larger than a page cannot be cut between pages. Returns a chart
 // per face (EmbedOptions::face_chart) that keeps `chart` (or, empty, one

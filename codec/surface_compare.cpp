@@ -147,20 +147,27 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
       ssampler[pi] = slot_sampler(src, sp.material, options.slot);
       usable[pi] = ssampler[pi].ok && read_primitive(src, sp, sgeom[pi]).empty();
     }
+    // The source side of decoded primitive d: its own source primitive, or
+    // with a cut every source primitive, joined once for all of them.
+    auto join = [&](size_t first, size_t last, SourceSide& side) {
+      std::vector<const PrimitiveGeometry*> geoms;
+      std::vector<const TextureSampler*> samplers;
+      for (size_t pi = first; pi < last; ++pi)
+        if (usable[pi]) geoms.push_back(&sgeom[pi]), samplers.push_back(&ssampler[pi]);
+      return !geoms.empty() && join_sources(geoms, samplers, side);
+    };
+    SourceSide all_sources;
+    const bool all_joined = cut && join(0, sprims.size(), all_sources);
     for (size_t di_index = 0; di_index < dprims.size(); ++di_index) {
       const auto& dp = dprims[di_index];
       if (!is_triangle_mode(dp.mode)) continue;
-      std::vector<const PrimitiveGeometry*> geoms;
-      std::vector<const TextureSampler*> samplers;
-      for (size_t pi = cut ? 0 : di_index; pi < (cut ? sprims.size() : di_index + 1); ++pi)
-        if (usable[pi]) geoms.push_back(&sgeom[pi]), samplers.push_back(&ssampler[pi]);
-      if (geoms.empty()) continue;
+      SourceSide single;
+      if (cut ? !all_joined : !join(di_index, di_index + 1, single)) continue;
+      const SourceSide& side = cut ? all_sources : single;
       const TextureSampler di = slot_sampler(dec, dp.material, options.slot);
       if (!di.ok) continue;
       PrimitiveGeometry dg;
       if (!read_primitive(dec, dp, dg).empty()) continue;
-      SourceSide side;
-      if (!join_sources(geoms, samplers, side)) continue;
       const PrimitiveGeometry& sg = side.geom;
       const VertexAttribute *spos = sg.find("POSITION"), *dpos = dg.find("POSITION");
       const VertexAttribute *suv = sg.find("TEXCOORD_0"), *duv = dg.find("TEXCOORD_0");

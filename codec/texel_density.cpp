@@ -7,28 +7,6 @@
 namespace gltfwarp {
 namespace {
 
-double face_area3d(const TriMesh& m, uint32_t f) {
-  const float* p0 = &m.positions[3 * m.indices[3 * f + 0]];
-  const float* p1 = &m.positions[3 * m.indices[3 * f + 1]];
-  const float* p2 = &m.positions[3 * m.indices[3 * f + 2]];
-  double e1[3], e2[3];
-  for (int i = 0; i < 3; ++i) {
-    e1[i] = double(p1[i]) - p0[i];
-    e2[i] = double(p2[i]) - p0[i];
-  }
-  const double cx = e1[1] * e2[2] - e1[2] * e2[1];
-  const double cy = e1[2] * e2[0] - e1[0] * e2[2];
-  const double cz = e1[0] * e2[1] - e1[1] * e2[0];
-  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
-}
-
-double face_area_texels(std::span<const float> uv, uint32_t f, double w, double h) {
-  const float* a = &uv[6 * f];
-  const double ux = (double(a[2]) - a[0]) * w, uy = (double(a[3]) - a[1]) * h;
-  const double vx = (double(a[4]) - a[0]) * w, vy = (double(a[5]) - a[1]) * h;
-  return 0.5 * std::abs(ux * vy - uy * vx);
-}
-
 // Distinct texels of a w x h image whose centres the UV triangles cover,
 // with coordinates wrapped into the image (REPEAT). Large images are
 // counted on a coarser grid (at most 4096 x 4096 cells), scaled back.
@@ -73,6 +51,28 @@ double used_texel_count(std::span<const DensityPrimitive* const> prims, uint32_t
 
 }  // namespace
 
+double face_area3d(const TriMesh& m, uint32_t f) {
+  const float* p0 = &m.positions[3 * m.indices[3 * f + 0]];
+  const float* p1 = &m.positions[3 * m.indices[3 * f + 1]];
+  const float* p2 = &m.positions[3 * m.indices[3 * f + 2]];
+  double e1[3], e2[3];
+  for (int i = 0; i < 3; ++i) {
+    e1[i] = double(p1[i]) - p0[i];
+    e2[i] = double(p2[i]) - p0[i];
+  }
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1];
+  const double cy = e1[2] * e2[0] - e1[0] * e2[2];
+  const double cz = e1[0] * e2[1] - e1[1] * e2[0];
+  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+double face_area_texels(std::span<const float> uv, uint32_t f, double w, double h) {
+  const float* a = &uv[6 * f];
+  const double ux = (double(a[2]) - a[0]) * w, uy = (double(a[3]) - a[1]) * h;
+  const double vx = (double(a[4]) - a[0]) * w, vy = (double(a[5]) - a[1]) * h;
+  return 0.5 * std::abs(ux * vy - uy * vx);
+}
+
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
                                            uint32_t image_width, uint32_t image_height) {
   const uint32_t nf = mesh.face_count();
@@ -92,8 +92,7 @@ std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy, std
   std::vector<PatchDensity> out(patch_count);
   std::vector<std::vector<std::pair<double, double>>> faces(patch_count);  // (density, area)
   for (size_t f = 0; f < patch_of_face.size(); ++f) {
-    const double* c = &corner_xy[6 * f];
-    const double a = 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+    const double a = layout_face_area(corner_xy, f);
     const double d = face_density[f];
     if (!(a > 0) || !std::isfinite(d) || !(d > 0)) continue;
     PatchDensity& p = out[patch_of_face[f]];

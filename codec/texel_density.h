@@ -8,6 +8,7 @@
 // Progressive Meshes", SIGGRAPH 2001, and xatlas' texelsPerUnit).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -53,6 +54,16 @@ struct TexelDensityReport {
   uint32_t triangles = 0;     // triangles with non-zero 3D area
   uint32_t degenerate_uv = 0; // triangles with zero texel-space area
 };
+
+// Area of face f in 3D (model units squared).
+double face_area3d(const TriMesh& mesh, uint32_t f);
+// Area of face f in the texels of a w x h image, from per-corner UVs (6 per face).
+double face_area_texels(std::span<const float> uv, uint32_t f, double w, double h);
+// Area of face f of a layout (corner_xy: 6 per face, layout units squared).
+inline double layout_face_area(std::span<const double> corner_xy, size_t f) {
+  const double* c = &corner_xy[6 * f];
+  return 0.5 * std::abs((c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]));
+}
 
 // Texels per model unit of each face (0 for faces without 3D area).
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,

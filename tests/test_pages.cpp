@@ -68,21 +68,21 @@ TEST(Pages, FacesSplitAlongChartsWhileTheyFit) {
   const std::vector<double> texels(faces, 1.0);
   uint32_t parts = 0;
   // Each shape fits one part: no shape is cut.
-  auto part = split_faces_into_parts(both.mesh.indices, both.mesh.positions, texels, double(faces), true, parts);
+  auto part = split_faces_into_parts(both.mesh, texels, double(faces), true, parts);
   EXPECT_EQ(parts, 1u);
-  part = split_faces_into_parts(both.mesh.indices, both.mesh.positions, texels,
+  part = split_faces_into_parts(both.mesh, texels,
                                 double(std::max(fa, faces - fa)), true, parts);
   EXPECT_EQ(parts, 2u);
   for (size_t f = 0; f < faces; ++f) EXPECT_EQ(part[f], f < fa ? part[0] : part[faces - 1]) << f;
   // Too large for a part: halves, each within the capacity.
   const double capacity = double(faces) / 7;
-  part = split_faces_into_parts(both.mesh.indices, both.mesh.positions, texels, capacity, true, parts);
+  part = split_faces_into_parts(both.mesh, texels, capacity, true, parts);
   std::vector<double> load(parts, 0.0);
   for (uint32_t p : part) load.at(p) += 1;
   EXPECT_GE(parts, 7u);
   for (double l : load) EXPECT_LE(l, capacity);
   // Without halving, a shape larger than a part is a part of its own.
-  part = split_faces_into_parts(both.mesh.indices, both.mesh.positions, texels, capacity, false, parts);
+  part = split_faces_into_parts(both.mesh, texels, capacity, false, parts);
   EXPECT_EQ(parts, 2u);
 }
 
