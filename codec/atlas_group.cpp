@@ -101,13 +101,17 @@ int add_clamp_sampler(tinygltf::Model& model) {
 
 }  // namespace
 
-// Largest image (by texel count) that a material samples through
-// TEXCOORD_0; 0 x 0 when none has a readable size. Also used by
+// Largest image (by texel count) that the primitive's materials sample
+// through TEXCOORD_0; 0 x 0 when none has a readable size. Also used by
 // prepare_implicit_primitive (implicit_uv_encoder.cpp) for the partition's
 // density rule, so both see the same per-face density.
-void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height) {
+void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
+                       uint32_t& height) {
   width = height = 0;
-  for (const auto& s : texture_slots(model, material)) {
+  std::vector<TextureSlot> slots;
+  for (const int material : primitive_materials(prim))
+    for (TextureSlot& s : texture_slots(model, material)) slots.push_back(std::move(s));
+  for (const auto& s : slots) {
     if (s.tex_coord != 0) continue;
     const int image = texture_image(model, s.texture);
     if (image < 0 || static_cast<size_t>(image) >= model.images.size()) continue;
@@ -265,7 +269,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     const auto& ip = plan.prims[m];
     const auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
     uint32_t w = 0, h = 0;
-    largest_uv0_image(model, prim.material, w, h);
+    largest_uv0_image(model, prim, w, h);
     dens.push_back({&ip.tri, ip.source_uv, w, h});
   }
   double scale = options.texel_density, reference = 0;
@@ -374,11 +378,14 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         frames.reserve(group.members.size());
         for (size_t k : out.pages[page]) {
           const auto& ip = plan.prims[group.members[k]];
-          // Only the primitives whose material samples this image paint it.
-          const int pm = model.meshes[ip.mesh].primitives[ip.primitive].material;
-          const auto slots = texture_slots(model, pm);
-          if (std::none_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
-                return s.tex_coord == 0 && texture_image(model, s.texture) == image;
+          // Only the primitives with a material (their own or a variant)
+          // that samples this image paint it.
+          const auto materials = primitive_materials(model.meshes[ip.mesh].primitives[ip.primitive]);
+          if (std::none_of(materials.begin(), materials.end(), [&](int material) {
+                const auto slots = texture_slots(model, material);
+                return std::any_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
+                  return s.tex_coord == 0 && texture_image(model, s.texture) == image;
+                });
               }))
             continue;
           WarpPrimitive w;
@@ -475,16 +482,17 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     for (size_t k : built.pages[page]) {
       const auto& ip = plan.prims[group.members[k]];
       auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
-      const int mat = prim.material;
-      if (std::find(group.materials.begin(), group.materials.end(), mat) == group.materials.end()) continue;
-      auto [it, fresh] = material_on_page.try_emplace({mat, page}, mat);
-      if (fresh && !placed.insert(mat).second) {
-        tinygltf::Material copy = model.materials[mat];
-        copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) + (copy.name.empty() ? "" : ")");
-        model.materials.push_back(std::move(copy));
-        it->second = static_cast<int>(model.materials.size() - 1);
+      for (const int mat : primitive_materials(prim)) {  // its own and its variants'
+        if (std::find(group.materials.begin(), group.materials.end(), mat) == group.materials.end()) continue;
+        auto [it, fresh] = material_on_page.try_emplace({mat, page}, mat);
+        if (fresh && !placed.insert(mat).second) {
+          tinygltf::Material copy = model.materials[mat];
+          copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) + (copy.name.empty() ? "" : ")");
+          model.materials.push_back(std::move(copy));
+          it->second = static_cast<int>(model.materials.size() - 1);
+        }
+        replace_primitive_material(prim, mat, it->second);
       }
-      prim.material = it->second;
     }
   for (int mat : group.materials)
     if (placed.insert(mat).second) material_on_page[{mat, 0}] = mat;
@@ -655,7 +663,7 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
 std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                 std::vector<int>& replaced, EncodeReport& report) {
   plan.seam_textures.clear();  // the partitions are made
-  plan.seam_material = -1;
+  plan.seam_materials.clear();
   int clamp_sampler = -1;
   std::vector<int> retired_textures;  // source textures the atlases replaced
   const bool auto_density = !(options.texel_density > 0);

@@ -60,26 +60,14 @@ double quantization_tolerance(const VertexAttribute& pos, int bits) {
 // and leaves the plan. pr.handling says why; the caller writes the geometry.
 std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan, PrimitiveReport& pr,
                       const std::string& why) {
-  if (prim.material >= 0 && static_cast<size_t>(prim.material) < model.materials.size()) {
-    model.materials.push_back(model.materials[prim.material]);
-    prim.material = static_cast<int>(model.materials.size() - 1);
-  }
+  for (const int material : primitive_materials(prim))
+    if (static_cast<size_t>(material) < model.materials.size()) {
+      model.materials.push_back(model.materials[material]);
+      replace_primitive_material(prim, material, static_cast<int>(model.materials.size() - 1));
+    }
   plan.group_of.erase({pr.mesh, pr.primitive});
   pr.handling = "fallback: explicit UVs kept (" + why + ")";
   return {};
-}
-
-
-// The materials a KHR_materials_variants primitive extension maps to.
-std::vector<int> variant_materials(const tinygltf::Value& ext) {
-  std::vector<int> out;
-  if (!ext.IsObject() || !ext.Has("mappings") || !ext.Get("mappings").IsArray()) return out;
-  const tinygltf::Value& mappings = ext.Get("mappings");
-  for (size_t i = 0; i < mappings.ArrayLen(); ++i) {
-    const tinygltf::Value& m = mappings.Get(int(i));
-    if (m.IsObject() && m.Has("material")) out.push_back(value_index(m.Get("material")));
-  }
-  return out;
 }
 
 }  // namespace
@@ -130,37 +118,36 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
       // A TEXCOORD_0 texture whose image we cannot reach or that also names
       // an image through an extension (KHR_texture_basisu, EXT_texture_webp,
       // ...) would keep sampling the old UVs: the primitive stays explicit.
+      // Every material the primitive can show counts: its own and those of
+      // its KHR_materials_variants, which all sample through the same UVs.
+      const std::vector<int> materials = primitive_materials(prim);
       std::string blocker;
-      for (const auto& s : texture_slots(model, prim.material)) {
-        if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size()) continue;
-        const auto& tex = model.textures[s.texture];
-        for (const auto& [name, ext] : tex.extensions)
-          if (ext.IsObject() && ext.Has("source")) blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
-        if (blocker.empty() && texture_image(model, s.texture) < 0)
-          blocker = "texture " + std::to_string(s.texture) + " has no image";
+      for (const int material : materials) {
+        for (const auto& s : texture_slots(model, material)) {
+          if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size()) continue;
+          const auto& tex = model.textures[s.texture];
+          for (const auto& [name, ext] : tex.extensions)
+            if (ext.IsObject() && ext.Has("source")) blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
+          if (blocker.empty() && texture_image(model, s.texture) < 0)
+            blocker = "texture " + std::to_string(s.texture) + " has no image";
+          if (!blocker.empty()) break;
+        }
         if (!blocker.empty()) break;
       }
-      // A material variant (KHR_materials_variants) that samples TEXCOORD_0
-      // textures would sample them through the atlas UVs.
-      if (const auto v = prim.extensions.find("KHR_materials_variants"); blocker.empty() && v != prim.extensions.end())
-        for (const int material : variant_materials(v->second))
-          if (material != prim.material && !uv0_slots(model, material).empty())
-            blocker = "material variant " + std::to_string(material) + " samples TEXCOORD_0 textures";
       if (!blocker.empty()) {
         report.notes.push_back("mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
                                ": explicit UVs kept, " + blocker + " that the warp cannot rewrite");
         continue;
       }
-      const auto slots = uv0_slots(model, prim.material);
-      if (slots.empty()) continue;
       Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
       bool ok = true;
-      for (const auto& s : slots) {
-        const int img = texture_image(model, s.texture);
-        if (!image_ok(img)) ok = false;
-        c.images.push_back(img);
-      }
-      if (ok) cands.push_back(std::move(c));
+      for (const int material : materials)
+        for (const auto& s : uv0_slots(model, material)) {
+          const int img = texture_image(model, s.texture);
+          if (!image_ok(img)) ok = false;
+          c.images.push_back(img);
+        }
+      if (ok && !c.images.empty()) cands.push_back(std::move(c));
     }
   if (cands.empty()) return {};
 
@@ -181,27 +168,29 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
   }
 
   // A material used by an implicit primitive and by one that keeps explicit
-  // UVs is cloned, so the explicit one keeps the original textures.
+  // UVs (as its own or as a variant) is cloned, so the explicit one keeps
+  // the original textures.
   std::map<int, int> clone_of;
   for (size_t mi = 0; mi < model.meshes.size(); ++mi)
     for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
-      const auto& prim = model.meshes[mi].primitives[pi];
-      if (prim.material < 0 || plan.is_implicit(static_cast<int>(mi), static_cast<int>(pi))) continue;
-      clone_of.emplace(prim.material, -1);
+      if (plan.is_implicit(static_cast<int>(mi), static_cast<int>(pi))) continue;
+      for (const int material : primitive_materials(model.meshes[mi].primitives[pi])) clone_of.emplace(material, -1);
     }
   for (auto& c : cands) {
     auto& prim = model.meshes[c.mesh].primitives[c.prim];
-    auto it = clone_of.find(prim.material);
-    if (it != clone_of.end()) {
+    for (const int material : primitive_materials(prim)) {
+      auto it = clone_of.find(material);
+      if (it == clone_of.end() || static_cast<size_t>(material) >= model.materials.size()) continue;
       if (it->second < 0) {
-        model.materials.push_back(model.materials[prim.material]);
+        model.materials.push_back(model.materials[material]);
         it->second = static_cast<int>(model.materials.size() - 1);
       }
-      prim.material = it->second;
+      replace_primitive_material(prim, material, it->second);
     }
     auto& g = plan.groups[plan.group_of[{c.mesh, c.prim}]];
-    if (std::find(g.materials.begin(), g.materials.end(), prim.material) == g.materials.end())
-      g.materials.push_back(prim.material);
+    for (const int material : primitive_materials(prim))
+      if (std::find(g.materials.begin(), g.materials.end(), material) == g.materials.end())
+        g.materials.push_back(material);
   }
   return {};
 }
@@ -235,7 +224,7 @@ std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tiny
                                         const PrimitiveGeometry& geom, std::span<const float> source_corner_uv,
                                         const EncodeOptions& options) {
   uint32_t width = 0, height = 0;
-  largest_uv0_image(model, prim.material, width, height);
+  largest_uv0_image(model, prim, width, height);
   const VertexAttribute* pos = geom.find("POSITION");
   // The layout stretches faces and the atlas matches the stretch (Duck: 1.27
   // times the source's count): parts sized for 70% of a page by the source's
@@ -417,7 +406,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   // Density-aware partition: faces of very different source texel density
   // land in different patches, so the per-patch scale can keep each one's detail.
   uint32_t image_w = 0, image_h = 0;
-  largest_uv0_image(model, prim.material, image_w, image_h);
+  largest_uv0_image(model, prim, image_w, image_h);
   std::vector<double> face_density;
   if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
   eo.face_density = face_density;
@@ -428,9 +417,19 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
     // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
     // to 8/32: the seams crossed are ones where both sides show one colour.
-    if (options.cross_hidden_seams && plan.seam_material != prim.material) {
-      plan.seam_textures = uv0_samplers(model, prim.material);
-      plan.seam_material = prim.material;
+    // A seam is hidden only if every material the primitive can show hides it.
+    if (const std::vector<int> materials = primitive_materials(prim);
+        options.cross_hidden_seams && plan.seam_materials != materials) {
+      plan.seam_textures.clear();
+      for (const int material : materials) {
+        std::vector<TextureSampler> samplers = uv0_samplers(model, material);
+        if (samplers.empty() && !uv0_slots(model, material).empty()) {  // unreadable: hide nothing
+          plan.seam_textures.clear();
+          break;
+        }
+        for (TextureSampler& t : samplers) plan.seam_textures.push_back(std::move(t));
+      }
+      plan.seam_materials = materials;
     }
     const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
     face_chart = source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());

@@ -54,10 +54,11 @@ struct ImplicitPlan {
   std::vector<PrimitiveCut> cuts;               // in the order they were made
   std::vector<AtlasGroup> groups;
   std::vector<ImplicitPrimitive> prims;
-  // The seam test's textures (seam_continuity.h) of the last material
-  // prepared: primitives of one material usually come together, so each
-  // material's textures are read once and only one material's are held.
-  int seam_material = -1;
+  // The seam test's textures (seam_continuity.h) of the last material set
+  // prepared (a primitive's own material and its variants'): primitives of
+  // one material usually come together, so each set's textures are read
+  // once and only one set's are held.
+  std::vector<int> seam_materials;
   std::vector<TextureSampler> seam_textures;
   bool is_implicit(int mesh, int primitive) const { return group_of.count({mesh, primitive}) > 0; }
 };
@@ -87,10 +88,12 @@ std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, 
 std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                   std::vector<int>& replaced, EncodeReport& report);
 
-// Largest image (by texel count) that `material` samples through TEXCOORD_0;
-// 0 x 0 when none has a readable size. The partition's density rule and the
-// atlas's texel density both measure against it.
-void largest_uv0_image(const tinygltf::Model& model, int material, uint32_t& width, uint32_t& height);
+// Largest image (by texel count) that any material the primitive can show
+// (primitive_materials: its own and its variants') samples through
+// TEXCOORD_0; 0 x 0 when none has a readable size. The partition's density
+// rule and the atlas's texel density both measure against it.
+void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
+                       uint32_t& height);
 
 // Per group: pack, write bitstreams, rebuild UVs with decode_uvs, warp every
 // TEXCOORD_0 texture into the atlas and retarget the materials. A group whose

@@ -58,6 +58,45 @@ bool is_srgb_extension_slot(const std::string& key) {
 
 }  // namespace
 
+namespace {
+
+constexpr const char* kVariants = "KHR_materials_variants";
+
+// The mappings array of the primitive's KHR_materials_variants, or null.
+const tinygltf::Value* variant_mappings(const tinygltf::Primitive& prim) {
+  const auto it = prim.extensions.find(kVariants);
+  if (it == prim.extensions.end() || !it->second.IsObject() || !it->second.Has("mappings")) return nullptr;
+  const tinygltf::Value& mappings = it->second.Get("mappings");
+  return mappings.IsArray() ? &mappings : nullptr;
+}
+
+}  // namespace
+
+std::vector<int> primitive_materials(const tinygltf::Primitive& prim) {
+  std::vector<int> out;
+  auto add = [&](int m) {
+    if (m >= 0 && std::find(out.begin(), out.end(), m) == out.end()) out.push_back(m);
+  };
+  add(prim.material);
+  if (const tinygltf::Value* mappings = variant_mappings(prim))
+    for (size_t i = 0; i < mappings->ArrayLen(); ++i) {
+      const tinygltf::Value& m = mappings->Get(int(i));
+      if (m.IsObject() && m.Has("material") && m.Get("material").IsNumber()) add(value_index(m.Get("material")));
+    }
+  return out;
+}
+
+void replace_primitive_material(tinygltf::Primitive& prim, int from, int to) {
+  if (prim.material == from) prim.material = to;
+  if (!variant_mappings(prim)) return;
+  auto& mappings = prim.extensions[kVariants].Get<tinygltf::Value::Object>()["mappings"].Get<tinygltf::Value::Array>();
+  for (tinygltf::Value& m : mappings) {
+    if (!m.IsObject() || !m.Has("material") || !m.Get("material").IsNumber() || value_index(m.Get("material")) != from)
+      continue;
+    m.Get<tinygltf::Value::Object>()["material"] = tinygltf::Value(to);
+  }
+}
+
 int texture_image(const tinygltf::Model& model, int texture) {
   if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return -1;
   const int src = model.textures[texture].source;

@@ -36,6 +36,15 @@ std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int materia
 // (the transform is baked into the warped image).
 void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture);
 
+// Every material a primitive can show: its own (if any), then those its
+// KHR_materials_variants mappings name, each once, in order of appearance.
+// Indices are as written (the caller checks them against the model).
+std::vector<int> primitive_materials(const tinygltf::Primitive& prim);
+
+// Makes the primitive show material `to` wherever it showed `from`: its own
+// material and every KHR_materials_variants mapping that names `from`.
+void replace_primitive_material(tinygltf::Primitive& prim, int from, int to);
+
 // Image index a texture samples, or -1.
 int texture_image(const tinygltf::Model& model, int texture);
 

@@ -14,8 +14,10 @@
 #include "codec/surface_compare.h"
 #include "format/extension.h"
 #include "format/gltf_io.h"
+#include "format/gltf_materials.h"
 #include "format/gltf_primitive.h"
 #include "support/corpus.h"
+#include "support/malformed.h"
 
 namespace fs = std::filesystem;
 using namespace gltfwarp;
@@ -214,34 +216,89 @@ TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
   EXPECT_FALSE(dext.Get("attributes").Has("TEXCOORD_0"));
 }
 
-// A material variant (KHR_materials_variants) that samples TEXCOORD_0
-// textures would sample them through the atlas UVs: the primitive keeps
-// explicit UVs, and says why. A variant without such textures does not
-// stop the implicit UVs.
-TEST(GeneratedRoundTrip, TexturedMaterialVariantKeepsExplicitUvs) {
-  for (const bool textured : {true, false}) {
-    SCOPED_TRACE(textured ? "textured variant" : "untextured variant");
-    tinygltf::Model model;
-    ASSERT_EQ(make_sample_model("sphere", 1000, 128, model), "");
-    tinygltf::Material variant = model.materials[0];
-    if (!textured) variant.pbrMetallicRoughness.baseColorTexture = tinygltf::TextureInfo{};
-    model.materials.push_back(variant);
-    tinygltf::Value::Object mapping;
-    mapping["material"] = tinygltf::Value(1);
-    mapping["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0)});
-    tinygltf::Value::Object ext;
-    ext["mappings"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(mapping)});
-    model.meshes[0].primitives[0].extensions["KHR_materials_variants"] = tinygltf::Value(ext);
-    EncodeOptions o;
-    o.quality_fallback = false;
-    EncodeReport report;
-    ASSERT_EQ(encode_model(model, o, report), "");
-    const bool implicit = model.meshes[0].primitives[0].extensions.count(ext::kName) > 0;
-    EXPECT_EQ(implicit, !textured);
-    bool said = false;
-    for (const std::string& note : report.notes) said = said || note.find("material variant 1") != std::string::npos;
-    EXPECT_EQ(said, textured);
+// KHR_materials_variants: every material a primitive can show samples
+// through the same TEXCOORD_0, so each variant's textures are warped into the
+// primitive's atlas layout, and a viewer that switches variants shows each
+// one's own colours. A primitive that keeps explicit UVs (here: points) and
+// shows a variant material of an implicit one keeps the source textures.
+TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
+  tinygltf::Model model;
+  ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
+  tinygltf::Texture tex = model.textures[model.materials[0].pbrMetallicRoughness.baseColorTexture.index];
+  tex.source = add_gradient_png_image(model, 256);
+  model.textures.push_back(tex);
+  tinygltf::Material variant = model.materials[0];
+  variant.name = "gradient";
+  variant.pbrMetallicRoughness.baseColorTexture.index = static_cast<int>(model.textures.size() - 1);
+  model.materials.push_back(variant);
+  tinygltf::Value::Object mapping, root, named;
+  mapping["material"] = tinygltf::Value(1);
+  mapping["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0)});
+  tinygltf::Value::Object prim_ext;
+  prim_ext["mappings"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(mapping)});
+  model.meshes[0].primitives[0].extensions["KHR_materials_variants"] = tinygltf::Value(prim_ext);
+  named["name"] = tinygltf::Value(std::string("gradient"));
+  root["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(named)});
+  model.extensions["KHR_materials_variants"] = tinygltf::Value(root);
+  model.extensionsUsed.push_back("KHR_materials_variants");
+  // The same vertices drawn as points, showing the variant material.
+  tinygltf::Mesh points = model.meshes[0];
+  points.primitives[0].extensions.clear();
+  points.primitives[0].mode = TINYGLTF_MODE_POINTS;
+  points.primitives[0].material = 1;
+  model.meshes.push_back(points);
+  tinygltf::Node node;
+  node.mesh = 1;
+  model.nodes.push_back(node);
+  model.scenes[0].nodes.push_back(static_cast<int>(model.nodes.size() - 1));
+
+  const std::string dir = scratch_dir("variants");
+  const std::string src = dir + "/src.glb", enc = dir + "/enc.glb", dec = dir + "/dec.glb";
+  ASSERT_EQ(write_gltf(model, src), "");
+  std::string out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode --always-implicit " + src + " -o " + enc + " 2>&1", &out), 0)
+      << out;
+  EXPECT_EQ(out.find("explicit UVs kept"), std::string::npos) << out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0) << out;
+  tinygltf::Model sm, em, dm;
+  ASSERT_TRUE(read_gltf(src, sm).ok);
+  ASSERT_TRUE(read_gltf(enc, em).ok);
+  ASSERT_TRUE(read_gltf(dec, dm).ok);
+  EXPECT_TRUE(em.meshes[0].primitives[0].extensions.count(ext::kName));
+
+  auto base_image = [](const tinygltf::Model& m, int material) -> const std::vector<unsigned char>& {
+    return m.images[m.textures[m.materials[material].pbrMetallicRoughness.baseColorTexture.index].source].image;
+  };
+  const auto shown = primitive_materials(dm.meshes[0].primitives[0]);
+  ASSERT_EQ(shown.size(), 2u);
+  // Each material shows its own warped image; the points keep the source's.
+  EXPECT_NE(base_image(dm, shown[0]), base_image(sm, 0));
+  EXPECT_NE(base_image(dm, shown[1]), base_image(sm, 1));
+  EXPECT_NE(base_image(dm, shown[0]), base_image(dm, shown[1]));
+  EXPECT_NE(dm.meshes[1].primitives[0].material, shown[1]);
+  EXPECT_EQ(base_image(dm, dm.meshes[1].primitives[0].material), base_image(sm, 1));
+
+  // What a viewer shows with each variant selected, against the source.
+  for (size_t v = 0; v < shown.size(); ++v) {
+    tinygltf::Model a = sm, b = dm;
+    a.meshes[0].primitives[0].material = static_cast<int>(v);
+    b.meshes[0].primitives[0].material = shown[v];
+    a.meshes.resize(1);
+    b.meshes.resize(1);
+    const SurfaceComparison q = compare_surface(a, b);
+    ASSERT_TRUE(q.error.empty()) << q.error;
+    std::printf("variant %zu: surface PSNR %.2f dB\n", v, q.psnr);
+    EXPECT_GE(q.psnr, 38.0) << "variant " << v;
   }
+
+  const ValidatorResult vs = validate(src), ve = validate(enc), vd = validate(dec);
+  if (!vs.ran) {
+    if (on_ci()) FAIL() << "gltf-validator is not installed (run scripts/install-deps)";
+    GTEST_SKIP() << "gltf-validator not installed";
+  }
+  EXPECT_EQ(vs.errors, 0) << vs.raw;
+  EXPECT_EQ(ve.errors, 0) << ve.raw;
+  EXPECT_EQ(vd.errors, 0) << vd.raw;
 }
 
 // A primitive whose atlas cannot reach the quality floor even at twice the

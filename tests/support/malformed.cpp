@@ -148,6 +148,23 @@ int add_png_image(tinygltf::Model& m, int size) {
   return static_cast<int>(m.images.size() - 1);
 }
 
+int add_gradient_png_image(tinygltf::Model& m, int size) {
+  std::vector<unsigned char> pixels(size_t(size) * size * 3);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      unsigned char* p = &pixels[(size_t(y) * size + x) * 3];
+      p[0] = static_cast<unsigned char>(255 * x / size);
+      p[1] = static_cast<unsigned char>(255 - 255 * y / size);
+      p[2] = static_cast<unsigned char>(128 + 100 * std::sin(6.2831853 * (x + y) / size));
+    }
+  tinygltf::Image img;
+  stbi_write_png_to_func(append_bytes, &img.image, size, size, 3, pixels.data(), size * 3);
+  img.mimeType = "image/png";
+  img.as_is = true;
+  m.images.push_back(std::move(img));
+  return static_cast<int>(m.images.size() - 1);
+}
+
 int add_sampler(tinygltf::Model& m, int wrap_s, int wrap_t) {
   tinygltf::Sampler s;
   s.wrapS = wrap_s;
