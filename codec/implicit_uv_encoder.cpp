@@ -189,7 +189,8 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
     }
     auto& g = plan.groups[plan.group_of[{c.mesh, c.prim}]];
     for (const int material : primitive_materials(prim))
-      if (std::find(g.materials.begin(), g.materials.end(), material) == g.materials.end())
+      if (static_cast<size_t>(material) < model.materials.size() &&
+          std::find(g.materials.begin(), g.materials.end(), material) == g.materials.end())
         g.materials.push_back(material);
   }
   return {};

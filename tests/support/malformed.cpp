@@ -274,6 +274,43 @@ std::vector<VariedModel> varied_models() {
       EXPECT_EQ(prim_of(e, 0, 4).material, prim_of(e, 0, 5).material);
     };
   }
+  // KHR_materials_variants mappings with a material index out of range and
+  // one that is not a number beside a valid textured variant: the odd ones
+  // pass through as written, the valid one is warped with the rest.
+  {
+    tinygltf::Model m = empty_scene();
+    const int img = add_png_image(m, 64);
+    const int mat = add_material(m, add_texture(m, img));
+    const int variant = add_material(m, add_texture(m, img));
+    add_primitive(m, grid_mesh(6, 5), mat);
+    tinygltf::Value::Array mappings;
+    for (const tinygltf::Value& material : {tinygltf::Value(99), tinygltf::Value(std::string("x")), tinygltf::Value(variant)}) {
+      tinygltf::Value::Object mapping;
+      mapping["material"] = material;
+      mapping["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0)});
+      mappings.push_back(tinygltf::Value(mapping));
+    }
+    tinygltf::Value::Object ext, root, named;
+    ext["mappings"] = tinygltf::Value(mappings);
+    m.meshes[0].primitives[0].extensions["KHR_materials_variants"] = tinygltf::Value(ext);
+    named["name"] = tinygltf::Value(std::string("odd"));
+    root["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(named)});
+    m.extensions["KHR_materials_variants"] = tinygltf::Value(root);
+    m.extensionsUsed.push_back("KHR_materials_variants");
+    auto* v = add("odd-material-variants", std::move(m));
+    v->check_encoded = [](const tinygltf::Model& e, const std::string& report) {
+      const auto& written = prim_of(e, 0, 0).extensions.at("KHR_materials_variants").Get("mappings");
+      ASSERT_EQ(written.ArrayLen(), 3u) << report;
+      EXPECT_EQ(written.Get(0).Get("material").GetNumberAsInt(), 99);
+      EXPECT_TRUE(written.Get(1).Get("material").IsString());
+      const int warped = written.Get(2).Get("material").GetNumberAsInt();
+      ASSERT_GE(warped, 0);
+      ASSERT_LT(size_t(warped), e.materials.size());
+      // The variant samples the atlas (the clamp-to-edge texture the warp made).
+      const int tex = e.materials[warped].pbrMetallicRoughness.baseColorTexture.index;
+      EXPECT_EQ(tex, e.materials[prim_of(e, 0, 0).material].pbrMetallicRoughness.baseColorTexture.index) << report;
+    };
+  }
   // Textures on TEXCOORD_1 are left alone; TEXCOORD_0 is replaced because
   // the base colour uses it.
   {
