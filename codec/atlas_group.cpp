@@ -370,6 +370,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       wo.wrap_t = wrap_from_gltf(gl_wrap_t);
       for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
       wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+      const std::string mime = output_mime(model.images[image].image, options.image_format);
+      wo.empty_fill = mime == "image/jpeg" ? EmptyFill::pull_push : EmptyFill::mean;
       ar.source_image_bytes += model.images[image].image.size();
       for (size_t page = 0; page < out.pages.size(); ++page) {
         std::vector<WarpPrimitive> wp;
@@ -411,7 +413,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         job.key = key;
         job.image = image;
         job.page = uint32_t(page);
-        job.mime = output_mime(model.images[image].image, options.image_format);
+        job.mime = mime;
         // Snapped before the quality check, so that it measures the texels the file will hold.
         std::span<const PaletteEntry> palette;
         if (palette_applies(atlas, job.mime, slot.normal_map, options.image_format)) {

@@ -19,6 +19,7 @@
 
 #include <unistd.h>
 
+#include "codec/atlas_fill.h"
 #include "codec/texture_sampler.h"
 
 namespace gltfwarp {
@@ -538,7 +539,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   for (std::thread& th : pool) th.join();
   OIIO::TextureSystem::destroy(ts);
 
-  // 4. Everything else: the mean covered colour, flat and cheap to compress.
+  // 4. Everything else: the mean covered colour, flat and cheap to compress
+  // as PNG; or, for JPEG, a pull-push fill (see EmptyFill).
   uint8_t* base = static_cast<uint8_t*>(out.localpixels());
   const size_t texel_bytes = size_t(nch) * (deep ? 2 : 1);
   uint8_t fill[8] = {};
@@ -553,6 +555,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       std::copy(fill, fill + texel_bytes, base + i * texel_bytes);
       ++n_empty;
     }
+  if (options.empty_fill == EmptyFill::pull_push) pull_push_fill(base, W, H, nch, deep, empty);
   report.covered_texels = covered;
   report.gutter_texels = gutter;
   report.empty_texels = n_empty;

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/encoder.h"
+#include "codec/image_io.h"
 #include "codec/sample_model.h"
 #include "codec/surface_compare.h"
 #include "format/extension.h"
@@ -299,6 +300,40 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
   EXPECT_EQ(vs.errors, 0) << vs.raw;
   EXPECT_EQ(ve.errors, 0) << ve.raw;
   EXPECT_EQ(vd.errors, 0) << vd.raw;
+}
+
+// A JPEG source gets a JPEG atlas no larger than the image it replaces, at
+// the quality floor: the Duck's PNG made JPEG (q85). With the flat mean fill
+// beyond the gutters its atlas came out larger than the source (the steps
+// at every patch outline cost JPEG coefficients); the pull-push fill
+// (codec/atlas_fill.h) keeps the outlines smooth.
+TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
+  GLTFWARP_REQUIRE_CORPUS();
+  const std::string path = corpus_path("Duck");
+  ASSERT_FALSE(path.empty());
+  tinygltf::Model model;
+  ASSERT_TRUE(read_gltf(path, model).ok);
+  ASSERT_EQ(model.images.size(), 1u);
+  OIIO::ImageBuf pixels;
+  std::string err;
+  ASSERT_TRUE(decode_image(model.images[0].image, pixels, err)) << err;
+  std::vector<uint8_t> jpeg;
+  ASSERT_TRUE(encode_image(pixels, "image/jpeg", 85, jpeg, err)) << err;
+  model.images[0].image.assign(jpeg.begin(), jpeg.end());
+  model.images[0].mimeType = "image/jpeg";
+  EncodeOptions o;
+  EncodeReport report;
+  ASSERT_EQ(encode_model(model, o, report), "");
+  ASSERT_EQ(report.atlases.size(), 1u);
+  const auto& atlas = report.atlases[0];
+  std::printf("JPEG Duck: images %zu -> %zu bytes, %.2f dB\n", atlas.source_image_bytes, atlas.atlas_image_bytes,
+              atlas.psnr);
+  EXPECT_LE(atlas.atlas_image_bytes, atlas.source_image_bytes);
+  EXPECT_GE(atlas.psnr, 38.0);
+  bool jpeg_atlas = false;
+  for (const auto& img : model.images)
+    jpeg_atlas = jpeg_atlas || (img.name.find("atlas") != std::string::npos && img.mimeType == "image/jpeg");
+  EXPECT_TRUE(jpeg_atlas) << "a JPEG source keeps JPEG";
 }
 
 // A primitive whose atlas cannot reach the quality floor even at twice the

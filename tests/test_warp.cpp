@@ -281,6 +281,46 @@ TEST(Warp, GutterIsFilledAndNeverBleeds) {
     }
 }
 
+// EmptyFill::pull_push (JPEG atlases): the gutters are the same as with the
+// flat fill, and beyond them each texel continues the patch nearest to it.
+TEST(Warp, PullPushFillContinuesTheNearestPatch) {
+  const OIIO::ImageBuf src = make_image(32, 16, 3, [](int x, int, uint8_t* p) {
+    p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255;
+  });
+  const int W = 64, H = 32;
+  Patch a, b;
+  a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);   // red, atlas x in [4, 20]
+  b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);  // blue, atlas x in [28, 44]
+  const WarpPrimitive prims[2] = {a.view(), b.view()};
+  WarpOptions flat, smooth;
+  smooth.empty_fill = EmptyFill::pull_push;
+  OIIO::ImageBuf out_flat, out_smooth;
+  WarpReport rep;
+  ASSERT_EQ(warp_texture(src, prims, W, H, flat, out_flat), WarpStatus::ok);
+  ASSERT_EQ(warp_texture(src, prims, W, H, smooth, out_smooth, &rep), WarpStatus::ok);
+  ASSERT_GT(rep.empty_texels, 0u);
+  size_t changed = 0;
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const uint8_t* f = texel(out_flat, x, y);
+      const uint8_t* p = texel(out_smooth, x, y);
+      const bool near_a = x >= 0 && x < 24 && y >= 4 && y < 28;
+      const bool near_b = x >= 24 && x < 48 && y >= 4 && y < 28;
+      if (near_a || near_b) {  // patches and gutters: untouched
+        ASSERT_EQ(std::vector<uint8_t>(f, f + 3), std::vector<uint8_t>(p, p + 3)) << x << "," << y;
+        continue;
+      }
+      changed += p[0] != f[0] || p[2] != f[2];
+      if (x < 14) {
+        EXPECT_GT(p[0], p[2]) << x << "," << y << ": nearest to red";
+      }
+      if (x > 34) {
+        EXPECT_GT(p[2], p[0]) << x << "," << y << ": nearest to blue";
+      }
+    }
+  EXPECT_GT(changed, 0u);
+}
+
 // Normal maps: frames with the same normal, the new tangent turned by `a`.
 uint8_t enc(double v) { return uint8_t(std::lround((v * 0.5 + 0.5) * 255)); }
 

@@ -1,0 +1,93 @@
+// The pull-push fill of an atlas's empty texels (codec/atlas_fill.h): kept
+// texels stay as they are, every filled texel is a blend of kept ones (so
+// within their range), and a fill follows the side it is nearer to.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "codec/atlas_fill.h"
+
+namespace gltfwarp {
+namespace {
+
+template <typename T>
+void check_random(bool deep) {
+  std::mt19937 rng(deep ? 7 : 3);
+  for (const auto [w, h, nch] : {std::array<int, 3>{1, 1, 3}, {7, 5, 1}, {33, 17, 3}, {64, 64, 4}, {1, 40, 2}}) {
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(nch));
+    const size_t n = size_t(w) * h;
+    std::vector<T> px(n * nch);
+    std::vector<uint8_t> empty(n);
+    const int top = deep ? 65535 : 255;
+    for (size_t i = 0; i < n; ++i) {
+      empty[i] = rng() % 4 != 0;  // a quarter kept
+      for (int c = 0; c < nch; ++c) px[i * nch + c] = T(rng() % (top + 1));
+    }
+    empty[n / 2] = 0;  // at least one kept
+    const std::vector<T> before = px;
+    pull_push_fill(reinterpret_cast<uint8_t*>(px.data()), w, h, nch, deep, empty);
+    for (int c = 0; c < nch; ++c) {
+      T lo = T(top), hi = 0;
+      for (size_t i = 0; i < n; ++i)
+        if (!empty[i]) lo = std::min(lo, before[i * nch + c]), hi = std::max(hi, before[i * nch + c]);
+      for (size_t i = 0; i < n; ++i) {
+        if (!empty[i]) {
+          ASSERT_EQ(px[i * nch + c], before[i * nch + c]) << "kept texel " << i << " changed";
+        } else {
+          ASSERT_GE(px[i * nch + c], lo) << i;
+          ASSERT_LE(px[i * nch + c], hi) << i;
+        }
+      }
+    }
+  }
+}
+
+TEST(AtlasFill, KeepsKeptTexelsAndBlendsWithinTheirRange) {
+  check_random<uint8_t>(false);
+  check_random<uint16_t>(true);
+}
+
+TEST(AtlasFill, FollowsTheNearerSide) {
+  // Kept: a red column on the left, a blue one on the right; between them empty.
+  const int w = 40, h = 9;
+  std::vector<uint8_t> px(size_t(w) * h * 3, 0), empty(size_t(w) * h, 1);
+  for (int y = 0; y < h; ++y)
+    for (int x : {0, 1, 38, 39}) {
+      const size_t i = size_t(y) * w + x;
+      empty[i] = 0;
+      px[3 * i] = x < 20 ? 255 : 0;
+      px[3 * i + 2] = x < 20 ? 0 : 255;
+    }
+  pull_push_fill(px.data(), w, h, 3, false, empty);
+  for (int y = 0; y < h; ++y) {
+    auto red = [&](int x) { return px[3 * (size_t(y) * w + x)]; };
+    auto blue = [&](int x) { return px[3 * (size_t(y) * w + x) + 2]; };
+    for (int x = 2; x < 12; ++x) {
+      EXPECT_GT(red(x), blue(x)) << x;
+    }
+    for (int x = 28; x < 38; ++x) {
+      EXPECT_LT(red(x), blue(x)) << x;
+    }
+    for (int x = 2; x < 38; ++x) {  // from red to blue along the row
+      EXPECT_GE(red(x), red(x + 1)) << x;
+    }
+  }
+}
+
+TEST(AtlasFill, NothingKeptGivesZeroAndBadSizesAreIgnored) {
+  std::vector<uint8_t> px(4 * 4 * 3, 200), empty(16, 1);
+  pull_push_fill(px.data(), 4, 4, 3, false, empty);
+  EXPECT_TRUE(std::all_of(px.begin(), px.end(), [](uint8_t v) { return v == 0; }));
+  std::vector<uint8_t> keep(px.size(), 9);
+  const std::vector<uint8_t> before = keep;
+  pull_push_fill(keep.data(), 4, 4, 3, false, std::vector<uint8_t>(15, 1));  // mask too short
+  pull_push_fill(keep.data(), 0, 4, 3, false, {});
+  pull_push_fill(keep.data(), 4, 4, 9, false, empty);  // too many channels
+  EXPECT_EQ(keep, before);
+}
+
+}  // namespace
+}  // namespace gltfwarp
