@@ -102,25 +102,38 @@ int add_clamp_sampler(tinygltf::Model& model) {
 }  // namespace
 
 // Largest image (by texel count) that the primitive's materials sample
-// through TEXCOORD_0; 0 x 0 when none has a readable size. Also used by
-// prepare_implicit_primitive (implicit_uv_encoder.cpp) for the partition's
-// density rule, so both see the same per-face density.
+// through TEXCOORD_0, as its UVs see it: a KHR_texture_transform scales the
+// texels per UV unit (gltfpack writes UVs quantized to [0, 1/16] with a
+// 16x transform), so its scale is folded into the size. 0 x 0 when none has
+// a readable size. Also used by prepare_implicit_primitive
+// (implicit_uv_encoder.cpp) for the partition's density rule, so both see
+// the same per-face density.
 void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
                        uint32_t& height) {
   width = height = 0;
   std::vector<TextureSlot> slots;
   for (const int material : primitive_materials(prim))
     for (TextureSlot& s : texture_slots(model, material)) slots.push_back(std::move(s));
+  double best = 0;
   for (const auto& s : slots) {
     if (s.tex_coord != 0) continue;
     const int image = texture_image(model, s.texture);
     if (image < 0 || static_cast<size_t>(image) >= model.images.size()) continue;
     int iw = 0, ih = 0;
     std::string err;
-    if (image_size(model.images[image].image, iw, ih, err) && iw > 0 && ih > 0 &&
-        uint64_t(iw) * uint64_t(ih) > uint64_t(width) * height) {
-      width = static_cast<uint32_t>(iw);
-      height = static_cast<uint32_t>(ih);
+    if (!image_size(model.images[image].image, iw, ih, err) || iw <= 0 || ih <= 0) continue;
+    // Texels per UV unit along u and v: exact for an axis-aligned transform
+    // (scale, offset, half turns), the area-preserving mean when it turns.
+    const auto& m = s.transform;
+    double su = std::abs(m[0]), sv = std::abs(m[4]);
+    if (m[1] != 0 || m[3] != 0) su = sv = std::sqrt(std::abs(m[0] * m[4] - m[1] * m[3]));
+    if (!std::isfinite(su) || !std::isfinite(sv)) continue;
+    constexpr double kMaxSide = double(1 << 24);
+    const double ew = std::clamp(iw * su, 1.0, kMaxSide), eh = std::clamp(ih * sv, 1.0, kMaxSide);
+    if (ew * eh > best) {
+      best = ew * eh;
+      width = static_cast<uint32_t>(std::lround(ew));
+      height = static_cast<uint32_t>(std::lround(eh));
     }
   }
 }

@@ -90,7 +90,8 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
 
 // Largest image (by texel count) that any material the primitive can show
 // (primitive_materials: its own and its variants') samples through
-// TEXCOORD_0; 0 x 0 when none has a readable size. The partition's density
+// TEXCOORD_0, its size scaled by the slot's KHR_texture_transform (texels
+// per UV unit); 0 x 0 when none has a readable size. The partition's density
 // rule and the atlas's texel density both measure against it.
 void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
                        uint32_t& height);

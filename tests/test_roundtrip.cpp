@@ -355,6 +355,45 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   EXPECT_TRUE(jpeg_atlas) << "a JPEG source keeps JPEG";
 }
 
+// UVs squeezed by a KHR_texture_transform scale (what gltfpack writes: UVs
+// quantized to [0, 1/16] with a 16x transform) sample the same texels per
+// unit of surface, so the atlas keeps the same density. Before the
+// transform's scale entered the density, such a Duck got a 16x thinner
+// atlas (21.6 dB at twice the density) and fell back to explicit UVs.
+TEST(GeneratedRoundTrip, TextureTransformScaleKeepsTheDensity) {
+  EncodeReport plain_report, squeezed_report;
+  for (const bool squeezed : {false, true}) {
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
+    if (squeezed) {
+      const tinygltf::Accessor& acc = model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
+      ASSERT_EQ(acc.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
+      const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
+      ASSERT_TRUE(view.byteStride == 0 || view.byteStride == 8);
+      auto* uv = reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
+      for (size_t i = 0; i < 2 * acc.count; ++i) uv[i] = (uv[i] - 0.25f) / 16.0f;  // back: 0.25 + 16 * uv
+      tinygltf::Value::Object transform;
+      transform["offset"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.25), tinygltf::Value(0.25)});
+      transform["scale"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(16.0), tinygltf::Value(16.0)});
+      model.materials[0].pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
+          tinygltf::Value(transform);
+      model.extensionsUsed.push_back("KHR_texture_transform");
+    }
+    EncodeOptions o;
+    o.quality_fallback = false;  // the sample's busy texture would keep explicit UVs for size
+    EncodeReport& report = squeezed ? squeezed_report : plain_report;
+    ASSERT_EQ(encode_model(model, o, report), "");
+    ASSERT_EQ(report.atlases.size(), 1u) << "squeezed " << squeezed;
+    EXPECT_GE(report.atlases[0].psnr, 38.0) << "squeezed " << squeezed;
+  }
+  const auto& a = plain_report.atlases[0];
+  const auto& b = squeezed_report.atlases[0];
+  const double ratio = double(b.width) * b.height / (double(a.width) * a.height);
+  std::printf("atlas %ux%u plain, %ux%u squeezed\n", a.width, a.height, b.width, b.height);
+  EXPECT_GT(ratio, 0.7);
+  EXPECT_LT(ratio, 1.4);
+}
+
 // A primitive whose atlas cannot reach the quality floor even at twice the
 // density keeps explicit UVs (VertexColorTest's 1-texel text at arbitrary
 // sub-texel offsets); --always-implicit replaces it anyway.
