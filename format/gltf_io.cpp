@@ -370,6 +370,14 @@ std::string prevalidate(const nlohmann::json& doc) {
     auto it = doc.find(key);
     return it != doc.end() && it->is_array() ? &*it : nullptr;
   };
+  // Compressed buffer views hold no readable data until decompressed: say
+  // so, rather than fail on the first byte count that does not add up.
+  if (const nlohmann::json* required = arr("extensionsRequired"))
+    for (const auto& name : *required)
+      if (name == "EXT_meshopt_compression" || name == "KHR_meshopt_compression")
+        return "it requires " + name.get<std::string>() +
+               ", which gltf-warp cannot decompress (write it without meshopt compression first, "
+               "e.g. gltfpack without -c)";
   const nlohmann::json* buffers = arr("buffers");
   const nlohmann::json* views = arr("bufferViews");
   if (buffers)

@@ -72,6 +72,22 @@ TEST(GltfIo, BadFilesGiveOneLineErrors) {
   }
 }
 
+// Meshopt-compressed views hold no readable data: the error names the
+// extension instead of a byte count that does not add up.
+TEST(GltfIo, RequiredMeshoptCompressionIsNamed) {
+  const std::string path = scratch_dir("io-meshopt") + "/meshopt.gltf";
+  std::ofstream(path, std::ios::binary)
+      << R"({"asset":{"version":"2.0"},"extensionsUsed":["EXT_meshopt_compression"],)"
+      << R"("extensionsRequired":["EXT_meshopt_compression"],"buffers":[{"byteLength":64}],)"
+      << R"("bufferViews":[{"buffer":0,"byteLength":64,"extensions":{"EXT_meshopt_compression":)"
+      << R"({"buffer":0,"byteLength":16,"byteStride":4,"count":16,"mode":"ATTRIBUTES"}}}]})";
+  tinygltf::Model m;
+  const auto r = read_gltf(path, m);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("EXT_meshopt_compression"), std::string::npos) << r.error;
+  EXPECT_EQ(r.error.find('\n'), std::string::npos) << r.error;
+}
+
 TEST(GltfIo, WriteIsAtomic) {
   tinygltf::Model m;
   m.asset.version = "2.0";
