@@ -246,16 +246,26 @@ TEST(Warp, SrgbFlatColourRoundTripIsExact) {
     }
 }
 
-TEST(Warp, GutterIsFilledAndNeverBleeds) {
-  // Left half of the source red, right half blue.
-  const OIIO::ImageBuf src = make_image(32, 16, 3, [](int x, int, uint8_t* p) {
+// Two square patches in a 64 x 32 atlas: red at atlas x in [4, 20], blue at
+// x in [28, 44], both at y in [8, 24], from a source whose left half is red
+// and right half blue.
+struct RedBlueScene {
+  static constexpr int W = 64, H = 32;
+  OIIO::ImageBuf src = make_image(32, 16, 3, [](int x, int, uint8_t* p) {
     p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255;
   });
-  const int W = 64, H = 32;
   Patch a, b;
-  a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);   // red, atlas x in [4, 20]
-  b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);  // blue, atlas x in [28, 44]
-  const WarpPrimitive prims[2] = {a.view(), b.view()};
+  RedBlueScene() {
+    a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);
+    b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);
+  }
+};
+
+TEST(Warp, GutterIsFilledAndNeverBleeds) {
+  const RedBlueScene scene;
+  const OIIO::ImageBuf& src = scene.src;
+  const int W = scene.W, H = scene.H;
+  const WarpPrimitive prims[2] = {scene.a.view(), scene.b.view()};
   WarpOptions opt;
   opt.gutter = 4;
   OIIO::ImageBuf out;
@@ -284,14 +294,10 @@ TEST(Warp, GutterIsFilledAndNeverBleeds) {
 // EmptyFill::pull_push (JPEG atlases): the gutters are the same as with the
 // flat fill, and beyond them each texel continues the patch nearest to it.
 TEST(Warp, PullPushFillContinuesTheNearestPatch) {
-  const OIIO::ImageBuf src = make_image(32, 16, 3, [](int x, int, uint8_t* p) {
-    p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255;
-  });
-  const int W = 64, H = 32;
-  Patch a, b;
-  a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);   // red, atlas x in [4, 20]
-  b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);  // blue, atlas x in [28, 44]
-  const WarpPrimitive prims[2] = {a.view(), b.view()};
+  const RedBlueScene scene;
+  const OIIO::ImageBuf& src = scene.src;
+  const int W = scene.W, H = scene.H;
+  const WarpPrimitive prims[2] = {scene.a.view(), scene.b.view()};
   WarpOptions flat, smooth;
   smooth.empty_fill = EmptyFill::pull_push;
   OIIO::ImageBuf out_flat, out_smooth;

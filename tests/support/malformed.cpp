@@ -130,16 +130,13 @@ std::vector<float> normals_of(const MeshSpec& s) {
 }
 }  // namespace
 
-int add_png_image(tinygltf::Model& m, int size) {
+namespace {
+// A size x size RGB PNG whose texel (x, y) is texel(x, y, rgb), as a new image.
+template <typename Texel>
+int add_rgb_png(tinygltf::Model& m, int size, Texel&& texel) {
   std::vector<unsigned char> pixels(size_t(size) * size * 3);
   for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      unsigned char* p = &pixels[(size_t(y) * size + x) * 3];
-      const bool check = ((x / 4) + (y / 4)) % 2;
-      p[0] = static_cast<unsigned char>(check ? 230 : 20 + 200 * x / size);
-      p[1] = static_cast<unsigned char>(check ? 40 : 200 * y / size);
-      p[2] = static_cast<unsigned char>(90 + (x * y) % 100);
-    }
+    for (int x = 0; x < size; ++x) texel(x, y, &pixels[(size_t(y) * size + x) * 3]);
   tinygltf::Image img;
   stbi_write_png_to_func(append_bytes, &img.image, size, size, 3, pixels.data(), size * 3);
   img.mimeType = "image/png";
@@ -147,22 +144,23 @@ int add_png_image(tinygltf::Model& m, int size) {
   m.images.push_back(std::move(img));
   return static_cast<int>(m.images.size() - 1);
 }
+}  // namespace
+
+int add_png_image(tinygltf::Model& m, int size) {
+  return add_rgb_png(m, size, [size](int x, int y, unsigned char* p) {
+    const bool check = ((x / 4) + (y / 4)) % 2;
+    p[0] = static_cast<unsigned char>(check ? 230 : 20 + 200 * x / size);
+    p[1] = static_cast<unsigned char>(check ? 40 : 200 * y / size);
+    p[2] = static_cast<unsigned char>(90 + (x * y) % 100);
+  });
+}
 
 int add_gradient_png_image(tinygltf::Model& m, int size) {
-  std::vector<unsigned char> pixels(size_t(size) * size * 3);
-  for (int y = 0; y < size; ++y)
-    for (int x = 0; x < size; ++x) {
-      unsigned char* p = &pixels[(size_t(y) * size + x) * 3];
-      p[0] = static_cast<unsigned char>(255 * x / size);
-      p[1] = static_cast<unsigned char>(255 - 255 * y / size);
-      p[2] = static_cast<unsigned char>(128 + 100 * std::sin(6.2831853 * (x + y) / size));
-    }
-  tinygltf::Image img;
-  stbi_write_png_to_func(append_bytes, &img.image, size, size, 3, pixels.data(), size * 3);
-  img.mimeType = "image/png";
-  img.as_is = true;
-  m.images.push_back(std::move(img));
-  return static_cast<int>(m.images.size() - 1);
+  return add_rgb_png(m, size, [size](int x, int y, unsigned char* p) {
+    p[0] = static_cast<unsigned char>(255 * x / size);
+    p[1] = static_cast<unsigned char>(255 - 255 * y / size);
+    p[2] = static_cast<unsigned char>(128 + 100 * std::sin(6.2831853 * (x + y) / size));
+  });
 }
 
 int add_sampler(tinygltf::Model& m, int wrap_s, int wrap_t) {
