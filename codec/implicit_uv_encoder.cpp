@@ -1,6 +1,7 @@
 #include "codec/implicit_uv_encoder.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <numeric>
 #include <set>
@@ -573,6 +574,13 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
       std::erase_if(report.primitives, [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
       for (PrimitiveReport& pr : report.primitives)
         if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
+      // Notes name primitives as "mesh M primitive P": later ones move down too.
+      for (std::string& note : report.notes) {
+        int note_mesh = -1, note_prim = -1, used = 0;
+        if (std::sscanf(note.c_str(), "mesh %d primitive %d%n", &note_mesh, &note_prim, &used) == 2 &&
+            note_mesh == mesh && note_prim > p)
+          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) + note.substr(size_t(used));
+      }
     }
   }
   return {};

@@ -15,6 +15,7 @@
 #include "codec/embed.h"
 #include "codec/image_io.h"
 #include "codec/encoder.h"
+#include "codec/implicit_uv_encoder.h"
 #include "codec/pack.h"
 #include "codec/pages.h"
 #include "codec/sample_model.h"
@@ -25,6 +26,7 @@
 #include "format/gltf_io.h"
 #include "format/gltf_primitive.h"
 #include "support/corpus.h"
+#include "support/malformed.h"
 
 namespace gltfwarp {
 namespace {
@@ -318,6 +320,44 @@ TEST(Pages, CutIsUndoneWhenEveryPartFallsBack) {
     bytes[pages == 1].assign(std::istreambuf_iterator<char>(in), {});
   }
   EXPECT_EQ(bytes[0], bytes[1]);
+}
+
+// Undoing a cut erases its parts from the mesh; the report's lines and the
+// notes that name later primitives of that mesh move down with them.
+TEST(Pages, UndoneCutRenumbersLaterPrimitivesInNotes) {
+  tinygltf::Model m = test::empty_scene();
+  const int mat = test::add_material(
+      m, test::add_texture(m, test::add_png_image(m, 16)));
+  // [0] A, cut, fell back; [1] B; [2] A's part, fell back; [3] B's part.
+  for (int i = 0; i < 4; ++i) test::add_primitive(m, test::grid_mesh(3, 3, float(4 * i), 0), mat);
+  ImplicitPlan plan;
+  PrimitiveCut cut;
+  cut.mesh = 0;
+  cut.primitive = 0;
+  cut.original = m.meshes[0].primitives[0];
+  cut.appended = {2};
+  plan.cuts.push_back(cut);
+  EncodeReport report;
+  for (int p = 0; p < 4; ++p) {
+    PrimitiveReport pr;
+    pr.mesh = 0;
+    pr.primitive = p;
+    pr.handling = p % 2 == 0 ? "fallback: explicit UVs kept (test)" : "implicit-uv";
+    report.primitives.push_back(pr);
+  }
+  report.notes = {"mesh 0 primitive 0 cut into 2 primitives", "mesh 0 primitive 2: fallback: explicit UVs kept (test)",
+                  "mesh 0 primitive 3: a note on B's part", "mesh 1 primitive 3: another mesh",
+                  "mesh 0 primitive 1: a note on B"};
+  EncodeOptions o;
+  std::vector<int> replaced;
+  ASSERT_EQ(undo_fallen_back_cuts(m, plan, o, replaced, report), "");
+  EXPECT_EQ(m.meshes[0].primitives.size(), 3u);
+  const std::vector<std::string> want = {"mesh 0 primitive 2: a note on B's part", "mesh 1 primitive 3: another mesh",
+                                         "mesh 0 primitive 1: a note on B"};
+  EXPECT_EQ(report.notes, want);
+  ASSERT_EQ(report.primitives.size(), 3u);
+  EXPECT_EQ(report.primitives[2].primitive, 2);
+  EXPECT_EQ(report.primitives[2].handling, "implicit-uv");  // B's part, formerly 3
 }
 
 }  // namespace
