@@ -160,6 +160,16 @@ struct GroupAtlas {
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
   SurfaceError error;                           // colour slots: warped atlas against the source
+  // The same per source image (pages pooled). The quality floor holds for
+  // each image, so each material variant (usually its own images) keeps it,
+  // not only the group's images on average.
+  std::map<int, SurfaceError> image_error;
+  double floor_psnr() const {
+    double worst = error.values ? error.psnr() : 0;
+    for (const auto& [image, e] : image_error)
+      if (e.values) worst = std::min(worst, e.psnr());
+    return worst;
+  }
   bool capped = false;                          // the atlas was shrunk to fit --max-atlas-size
   uint32_t patch_count = 0;                     // over the members, numbered member by member
   std::vector<SurfaceError> patch_error;        // per patch, colour slots
@@ -455,7 +465,9 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
           TextureSampler after;
           load_texture_sampler(lossy ? decoded : atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
                                TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
-          out.error.add(surface_error(before, after, uvs, 4'000'000, &out.patch_error));
+          const SurfaceError e = surface_error(before, after, uvs, 4'000'000, &out.patch_error);
+          out.error.add(e);
+          out.image_error[image].add(e);
         }
         if (!measure_only && !lossy) err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
         if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
@@ -464,7 +476,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       }
     }
   }
-  ar.psnr = out.error.values ? out.error.psnr() : 0;
+  ar.psnr = out.floor_psnr();
   return {};
 }
 
@@ -658,7 +670,7 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
     if (!err.empty()) return err;
     // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
     // checker compresses worse): keep a round only if the bytes fell too.
-    if (chosen.error.values > 0 && chosen.error.psnr() >= min_psnr && !chosen.capped &&
+    if (chosen.error.values > 0 && chosen.floor_psnr() >= min_psnr && !chosen.capped &&
         chosen.report.atlas_image_bytes < built.report.atlas_image_bytes) {
       built = std::move(chosen);
       bias = std::move(next);
@@ -712,14 +724,14 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       std::string err = build_group_atlas(model, plan, group, options, sources, factor, {}, built);
       if (!err.empty()) return err;
       factor_used = factor;
-      if (!(min_psnr > 0) || built.error.values == 0 || built.error.psnr() >= min_psnr || built.capped) break;
+      if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= min_psnr || built.capped) break;
     }
     if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
-        built.error.psnr() >= min_psnr + 0.5) {
+        built.floor_psnr() >= min_psnr + 0.5) {
       std::string err = spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
       if (!err.empty()) return err;
     }
-    const double psnr = built.error.psnr();
+    const double psnr = built.floor_psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
       char why[160];
       std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f",
@@ -744,7 +756,7 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       if (implicit_bytes > explicit_bytes) {
         char why[200];
         std::snprintf(why, sizeof why, "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
-                      "and a %.1f dB atlas", explicit_bytes, implicit_bytes, built.error.psnr());
+                      "and a %.1f dB atlas", explicit_bytes, implicit_bytes, built.floor_psnr());
         if (std::string err = keep_explicit(group, why); !err.empty()) return err;
         continue;
       }

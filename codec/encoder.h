@@ -89,7 +89,7 @@ struct AtlasReport {
   size_t overlapping_texels = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;    // times the measured texel density
-  double psnr = 0;              // surface PSNR of the warped colour slots (0: none measured)
+  double psnr = 0;              // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
 };
 
 struct EncodeReport {

@@ -296,9 +296,11 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
     EXPECT_EQ(base_image(dm, dm.meshes[1].primitives[0].material), base_image(sm, 1));
 
     // What a viewer shows with each variant selected, against the source.
-    // The quality floor holds over the group's images together (the
-    // encoder pools their error), so one variant may sit a little under it
-    // while the other is above; a wrong image would fall far below.
+    // The floor holds for every source image, so for each variant; on pages
+    // of 128 the density is held by --max-atlas-size (the report says
+    // 0.6x), so there both variants together must keep it and each stays
+    // near it. A wrong image would fall far below.
+    const double each = pages.empty() ? 38.0 : 36.0;
     double squared = 0, samples = 0;
     for (int v = 0; v < 2; ++v) {
       tinygltf::Model a = sm, b = dm;
@@ -309,7 +311,7 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
       const SurfaceComparison q = compare_surface(a, b);
       ASSERT_TRUE(q.error.empty()) << q.error;
       std::printf("%s variant %d: surface PSNR %.2f dB\n", pages.c_str(), v, q.psnr);
-      EXPECT_GE(q.psnr, 36.0) << "variant " << v;
+      EXPECT_GE(q.psnr, each) << "variant " << v;
       squared += double(q.samples) * 255.0 * 255.0 / std::pow(10.0, q.psnr / 10.0);
       samples += double(q.samples);
     }
