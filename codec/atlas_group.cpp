@@ -101,8 +101,8 @@ int add_clamp_sampler(tinygltf::Model& model) {
 
 }  // namespace
 
-// Largest image (by texel count) that the primitive's materials sample
-// through TEXCOORD_0, as its UVs see it: a KHR_texture_transform scales the
+// Largest image (by texel count) that the primitive's TEXCOORD_0 slots
+// sample, as its UVs see it: a KHR_texture_transform scales the
 // texels per UV unit (gltfpack writes UVs quantized to [0, 1/16] with a
 // 16x transform), so its scale is folded into the size. 0 x 0 when none has
 // a readable size. Also used by prepare_implicit_primitive
@@ -111,14 +111,9 @@ int add_clamp_sampler(tinygltf::Model& model) {
 void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
                        uint32_t& height) {
   width = height = 0;
-  std::vector<TextureSlot> slots;
-  for (const int material : primitive_materials(prim))
-    for (TextureSlot& s : texture_slots(model, material)) slots.push_back(std::move(s));
   double best = 0;
-  for (const auto& s : slots) {
-    if (s.tex_coord != 0) continue;
+  for (const auto& s : primitive_uv0_slots(model, prim)) {
     const int image = texture_image(model, s.texture);
-    if (image < 0 || static_cast<size_t>(image) >= model.images.size()) continue;
     int iw = 0, ih = 0;
     std::string err;
     if (!image_size(model.images[image].image, iw, ih, err) || iw <= 0 || ih <= 0) continue;
@@ -367,6 +362,14 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     }
   }
 
+  // The images each member samples (through any material it can show):
+  // only those members paint an image.
+  std::vector<std::set<int>> member_images(group.members.size());
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    for (const auto& s : primitive_uv0_slots(model, model.meshes[ip.mesh].primitives[ip.primitive]))
+      member_images[k].insert(texture_image(model, s.texture));
+  }
   std::set<JobKey> warped;
   for (int mat : group.materials) {
     for (const auto& slot : texture_slots(model, mat)) {
@@ -402,17 +405,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         std::vector<TangentFrames> frames;
         frames.reserve(group.members.size());
         for (size_t k : out.pages[page]) {
+          if (!member_images[k].count(image)) continue;
           const auto& ip = plan.prims[group.members[k]];
-          // Only the primitives with a material (their own or a variant)
-          // that samples this image paint it.
-          const auto materials = primitive_materials(model.meshes[ip.mesh].primitives[ip.primitive]);
-          if (std::none_of(materials.begin(), materials.end(), [&](int material) {
-                const auto slots = texture_slots(model, material);
-                return std::any_of(slots.begin(), slots.end(), [&](const TextureSlot& s) {
-                  return s.tex_coord == 0 && texture_image(model, s.texture) == image;
-                });
-              }))
-            continue;
           WarpPrimitive w;
           w.source_uv = ip.source_uv;
           w.atlas_uv = ip.corner_uv;

@@ -34,14 +34,6 @@ struct UnionFind {
   void join(int a, int b) { parent[find(a)] = find(b); }
 };
 
-// TEXCOORD_0 slots of a material whose texture and image exist.
-std::vector<TextureSlot> uv0_slots(const tinygltf::Model& model, int material) {
-  std::vector<TextureSlot> out;
-  for (const auto& s : texture_slots(model, material))
-    if (s.tex_coord == 0 && texture_image(model, s.texture) >= 0) out.push_back(s);
-  return out;
-}
-
 // Largest distance between a source position and its Draco-decoded copy.
 double quantization_tolerance(const VertexAttribute& pos, int bits) {
   double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
@@ -73,12 +65,20 @@ std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, Implici
 
 }  // namespace
 
-// The material's TEXCOORD_0 textures as a viewer samples them; empty when
-// one cannot be read (the seam test then hides no seam).
-std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, int material) {
+std::vector<TextureSlot> primitive_uv0_slots(const tinygltf::Model& model, const tinygltf::Primitive& prim) {
+  std::vector<TextureSlot> out;
+  for (const int material : primitive_materials(prim))
+    for (TextureSlot& s : texture_slots(model, material))
+      if (s.tex_coord == 0 && texture_image(model, s.texture) >= 0) out.push_back(std::move(s));
+  return out;
+}
+
+// The primitive's TEXCOORD_0 textures (those of every material it can show)
+// as a viewer samples them; empty when one cannot be read (the seam test
+// then hides no seam).
+std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, const tinygltf::Primitive& prim) {
   std::vector<TextureSampler> out;
-  for (const TextureSlot& slot : texture_slots(model, material)) {
-    if (slot.tex_coord != 0) continue;
+  for (const TextureSlot& slot : primitive_uv0_slots(model, prim)) {
     TextureSampler t;
     if (!load_slot_sampler(model, slot, t).empty()) return {};
     out.push_back(std::move(t));
@@ -142,12 +142,11 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
       }
       Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
       bool ok = true;
-      for (const int material : materials)
-        for (const auto& s : uv0_slots(model, material)) {
-          const int img = texture_image(model, s.texture);
-          if (!image_ok(img)) ok = false;
-          c.images.push_back(img);
-        }
+      for (const auto& s : primitive_uv0_slots(model, prim)) {
+        const int img = texture_image(model, s.texture);
+        if (!image_ok(img)) ok = false;
+        c.images.push_back(img);
+      }
       if (ok && !c.images.empty()) cands.push_back(std::move(c));
     }
   if (cands.empty()) return {};
@@ -422,15 +421,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     // A seam is hidden only if every material the primitive can show hides it.
     if (const std::vector<int> materials = primitive_materials(prim);
         options.cross_hidden_seams && plan.seam_materials != materials) {
-      plan.seam_textures.clear();
-      for (const int material : materials) {
-        std::vector<TextureSampler> samplers = uv0_samplers(model, material);
-        if (samplers.empty() && !uv0_slots(model, material).empty()) {  // unreadable: hide nothing
-          plan.seam_textures.clear();
-          break;
-        }
-        for (TextureSampler& t : samplers) plan.seam_textures.push_back(std::move(t));
-      }
+      plan.seam_textures = uv0_samplers(model, prim);
       plan.seam_materials = materials;
     }
     const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
@@ -530,6 +521,19 @@ std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, 
   return write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
 }
 
+namespace {
+
+// The primitive a note names by its opening "mesh M primitive P" (how the
+// encoder's notes start), and where the rest of the note begins.
+bool note_names(const std::string& note, int& mesh, int& primitive, size_t& rest) {
+  int used = 0;
+  if (std::sscanf(note.c_str(), "mesh %d primitive %d%n", &mesh, &primitive, &used) != 2) return false;
+  rest = size_t(used);
+  return true;
+}
+
+}  // namespace
+
 std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                   std::vector<int>& replaced, EncodeReport& report) {
   auto entry = [&](int mesh, int primitive) -> PrimitiveReport* {
@@ -552,17 +556,16 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
     first->triangles = geom.triangles.size() / 3;
     first->vertices = geom.vertex_count();
     first->cut_parts = 0;
-    // The parts' lines in the report and the notes go; the whole's stays.
-    const std::string mesh_tag = "mesh " + std::to_string(cut->mesh) + " primitive ";
-    for (int p : cut->appended) {
-      erased[cut->mesh].push_back(p);
-      const std::string tag = mesh_tag + std::to_string(p);
-      std::erase_if(report.notes, [&](const std::string& n) {
-        return n.rfind(tag, 0) == 0 && (n.size() == tag.size() || n[tag.size()] == ':' || n[tag.size()] == ' ');
-      });
-    }
-    const std::string tag = mesh_tag + std::to_string(cut->primitive) + " cut into";
-    std::erase_if(report.notes, [&](const std::string& n) { return n.rfind(tag, 0) == 0; });
+    // The parts' lines in the report and the notes go, and the note of the
+    // cut; the whole's other notes stay.
+    for (int p : cut->appended) erased[cut->mesh].push_back(p);
+    std::erase_if(report.notes, [&](const std::string& n) {
+      int mesh = -1, primitive = -1;
+      size_t rest = 0;
+      if (!note_names(n, mesh, primitive, rest) || mesh != cut->mesh) return false;
+      if (primitive == cut->primitive) return n.compare(rest, 9, " cut into") == 0;
+      return std::find(cut->appended.begin(), cut->appended.end(), primitive) != cut->appended.end();
+    });
   }
   for (auto& entry_of_mesh : erased) {
     const int mesh = entry_of_mesh.first;  // a plain variable: lambdas below capture it
@@ -574,12 +577,12 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
       std::erase_if(report.primitives, [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
       for (PrimitiveReport& pr : report.primitives)
         if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
-      // Notes name primitives as "mesh M primitive P": later ones move down too.
+      // Notes on later primitives of the mesh move down too.
       for (std::string& note : report.notes) {
-        int note_mesh = -1, note_prim = -1, used = 0;
-        if (std::sscanf(note.c_str(), "mesh %d primitive %d%n", &note_mesh, &note_prim, &used) == 2 &&
-            note_mesh == mesh && note_prim > p)
-          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) + note.substr(size_t(used));
+        int note_mesh = -1, note_prim = -1;
+        size_t rest = 0;
+        if (note_names(note, note_mesh, note_prim, rest) && note_mesh == mesh && note_prim > p)
+          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) + note.substr(rest);
       }
     }
   }

@@ -13,6 +13,7 @@
 #include "codec/encoder.h"
 #include "codec/mesh.h"
 #include "codec/texture_sampler.h"
+#include "format/gltf_materials.h"
 #include "format/gltf_primitive.h"
 
 namespace gltfwarp {
@@ -88,11 +89,14 @@ std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, 
 std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
                                   std::vector<int>& replaced, EncodeReport& report);
 
-// Largest image (by texel count) that any material the primitive can show
-// (primitive_materials: its own and its variants') samples through
-// TEXCOORD_0, its size scaled by the slot's KHR_texture_transform (texels
-// per UV unit); 0 x 0 when none has a readable size. The partition's density
-// rule and the atlas's texel density both measure against it.
+// The TEXCOORD_0 slots whose texture has an image, of every material the
+// primitive can show (primitive_materials: its own and its variants').
+std::vector<TextureSlot> primitive_uv0_slots(const tinygltf::Model& model, const tinygltf::Primitive& prim);
+
+// Largest image (by texel count) that primitive_uv0_slots sample, its size
+// scaled by the slot's KHR_texture_transform (texels per UV unit); 0 x 0
+// when none has a readable size. The partition's density rule and the
+// atlas's texel density both measure against it.
 void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
                        uint32_t& height);
 

@@ -552,7 +552,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   uint64_t n_empty = 0;
   for (size_t i = 0; i < empty.size(); ++i)
     if (empty[i]) {
-      std::copy(fill, fill + texel_bytes, base + i * texel_bytes);
+      if (options.empty_fill == EmptyFill::mean) std::copy(fill, fill + texel_bytes, base + i * texel_bytes);
       ++n_empty;
     }
   if (options.empty_fill == EmptyFill::pull_push) pull_push_fill(base, W, H, nch, deep, empty);
