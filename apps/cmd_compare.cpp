@@ -2,8 +2,8 @@
 #include <cstdio>
 
 #include "apps/commands.h"
-#include "codec/surface_compare.h"
-#include "format/gltf_io.h"
+#include "codec/encode/texture/surface_compare.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 

@@ -3,8 +3,8 @@
 #include <filesystem>
 
 #include "apps/commands.h"
-#include "codec/decoder.h"
-#include "format/gltf_io.h"
+#include "codec/decode/decoder.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 

@@ -6,8 +6,8 @@
 
 #include "apps/commands.h"
 #include "apps/report_format.h"
-#include "codec/encoder.h"
-#include "format/gltf_io.h"
+#include "codec/encode/encoder.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 

@@ -3,15 +3,15 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
-#include "codec/embed.h"
-#include "codec/embedding_mesh.h"
-#include "codec/layout.h"
-#include "format/decode_uvs.h"
-#include "format/extension.h"
-#include "format/gltf_accessors.h"
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
-#include "format/uvmap_codec.h"
+#include "codec/core/layout_report.h"
+#include "codec/decode/embedding_mesh.h"
+#include "codec/core/layout.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_accessors.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
+#include "format/bitstream/uvmap_codec.h"
 
 namespace gltfwarp::cli {
 namespace {

@@ -1,8 +1,8 @@
 #include <cstdio>
 
 #include "apps/commands.h"
-#include "codec/sample_model.h"
-#include "format/gltf_io.h"
+#include "tests/support/testing/sample_model.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "codec/encoder.h"
+#include "codec/encode/encoder.h"
 
 namespace gltfwarp::cli {
 

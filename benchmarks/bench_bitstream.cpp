@@ -1,5 +1,5 @@
 // Bitstream benchmarks: encode / decode speed of the GWUV stream and of
-// decode_uvs, and its size (counters) on real partitions (codec/embed on the
+// decode_uvs, and its size (counters) on real partitions (codec/encode/partition/embed on the
 // generated shapes, after a Draco round trip so that the face order is
 // Draco's) next to what TEXCOORD_0 costs in Draco at 12 bits on the same
 // shape. Also measures the alternative partition coding that the format did
@@ -15,13 +15,13 @@
 #include <map>
 #include <random>
 
-#include "codec/draco_geometry.h"
-#include "codec/embed.h"
-#include "codec/shapes.h"
-#include "format/decode_uvs.h"
-#include "format/gltf_accessors.h"
-#include "format/range_coder.h"
-#include "format/uvmap_codec.h"
+#include "format/gltf/draco_geometry.h"
+#include "codec/encode/partition/embed.h"
+#include "tests/support/testing/shapes.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/gltf/gltf_accessors.h"
+#include "format/bitstream/range_coder.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "tests/test_bitstream_util.h"
 
 using namespace gltfwarp;

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <map>
 
-#include "codec/embed.h"
-#include "codec/layout.h"
-#include "codec/shapes.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/core/layout.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {

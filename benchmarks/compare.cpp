@@ -22,7 +22,7 @@
 // explicit-UV Draco primitive for draco_decoder.
 //
 // Texture-space PSNR: every decoded face is traced back to its source face
-// (codec/corner_match, by position); on each face, points at the centroids
+// (codec/core/corner_match, by position); on each face, points at the centroids
 // of an n x n barycentric subdivision (n grows with the face's source texel
 // area, about one point per source texel, 2 <= n <= 64) sample the source
 // texture at the source UV (with its KHR_texture_transform and sampler wrap)
@@ -47,17 +47,17 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "codec/corner_match.h"
-#include "codec/decoder.h"
-#include "codec/draco_geometry.h"
-#include "codec/encoder.h"
-#include "codec/image_io.h"
-#include "codec/texture_sampler.h"
-#include "format/extension.h"
-#include "format/gltf_io.h"
-#include "format/gltf_materials.h"
-#include "format/gltf_primitive.h"
-#include "format/uvmap_codec.h"
+#include "codec/core/corner_match.h"
+#include "codec/decode/decoder.h"
+#include "format/gltf/draco_geometry.h"
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/texture_sampler.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
+#include "format/bitstream/uvmap_codec.h"
 
 using namespace gltfwarp;
 using json = nlohmann::ordered_json;
@@ -99,7 +99,7 @@ std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs, 
 
 // ---------------------------------------------------------------- sampling
 
-// A slot's texture as a viewer samples it (codec/texture_sampler.h), as RGB
+// A slot's texture as a viewer samples it (codec/encode/texture/texture_sampler.h), as RGB
 // on the 0..255 scale; grey images give their one channel three times.
 void sample(const TextureSampler& t, double u, double v, float out[3]) {
   float px[4] = {0, 0, 0, 0};

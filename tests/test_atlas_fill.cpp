@@ -1,4 +1,4 @@
-// The pull-push fill of an atlas's empty texels (codec/atlas_fill.h): kept
+// The pull-push fill of an atlas's empty texels (codec/encode/texture/atlas_fill.h): kept
 // texels stay as they are, every filled texel is a blend of kept ones (so
 // within their range), and a fill follows the side it is nearer to.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/atlas_fill.h"
+#include "codec/encode/texture/atlas_fill.h"
 
 namespace gltfwarp {
 namespace {

@@ -1,4 +1,4 @@
-// The GLTFWARP_implicit_texcoords bitstream (format/uvmap_codec.h): round
+// The GLTFWARP_implicit_texcoords bitstream (format/bitstream/uvmap_codec.h): round
 // trips over random maps, every truncation, corrupt headers and counts,
 // trailing bytes, transform tables, and apply_placements arithmetic.
 // Golden vectors are in test_bitstream_golden.cpp.
@@ -8,8 +8,8 @@
 #include <cstring>
 #include <random>
 
-#include "format/decode_uvs.h"
-#include "format/uvmap_codec.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;

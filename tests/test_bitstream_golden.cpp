@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "format/decode_uvs.h"
-#include "format/uvmap_codec.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "golden/uvmap_v1_0.h"
 #include "golden/uvmap_v1_1.h"
 #include "test_bitstream_util.h"

@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "codec/mesh.h"
-#include "format/uvmap.h"
+#include "codec/core/mesh.h"
+#include "format/bitstream/uvmap.h"
 
 namespace gltfwarp::testutil {
 

@@ -1,4 +1,4 @@
-// The partition (codec/embed.h): the embedding's guarantees on every
+// The partition (codec/encode/partition/embed.h): the embedding's guarantees on every
 // generated shape in both modes, bit-exact agreement between the encoder's
 // growth and the decoder's replay, and the compactness targets of issue 8.
 #include <gtest/gtest.h>
@@ -11,16 +11,16 @@
 #include <map>
 #include <string>
 
-#include "codec/embed.h"
-#include "codec/embedding_mesh.h"
-#include "codec/geometry2d.h"
-#include "codec/seam_continuity.h"
-#include "codec/shapes.h"
-#include "codec/source_charts.h"
-#include "codec/texel_density.h"
-#include "codec/topology.h"
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/decode/embedding_mesh.h"
+#include "codec/core/geometry2d.h"
+#include "codec/encode/texture/seam_continuity.h"
+#include "tests/support/testing/shapes.h"
+#include "codec/encode/partition/source_charts.h"
+#include "codec/encode/atlas/texel_density.h"
+#include "codec/core/topology.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 
 namespace gltfwarp {

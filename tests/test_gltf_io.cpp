@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "format/gltf_io.h"
+#include "format/gltf/gltf_io.h"
 #include "support/corpus.h"
 
 using namespace gltfwarp;

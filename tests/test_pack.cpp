@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "codec/pack.h"
-#include "codec/texel_density.h"
+#include "codec/encode/atlas/pack.h"
+#include "codec/encode/atlas/texel_density.h"
 
 namespace gltfwarp {
 namespace {

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "codec/image_io.h"
-#include "codec/png_palette.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/png_palette.h"
 
 namespace gltfwarp {
 namespace {

@@ -1,11 +1,11 @@
-// Adaptive binary range coder (format/range_coder.h): round trips, bounds,
+// Adaptive binary range coder (format/bitstream/range_coder.h): round trips, bounds,
 // compression efficiency, and safe behaviour on truncated / garbage input.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "format/range_coder.h"
+#include "format/bitstream/range_coder.h"
 
 using namespace gltfwarp::rc;
 

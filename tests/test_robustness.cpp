@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/malformed.h"
 

@@ -10,14 +10,14 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "codec/encoder.h"
-#include "codec/image_io.h"
-#include "codec/sample_model.h"
-#include "codec/surface_compare.h"
-#include "format/extension.h"
-#include "format/gltf_io.h"
-#include "format/gltf_materials.h"
-#include "format/gltf_primitive.h"
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "tests/support/testing/sample_model.h"
+#include "codec/encode/texture/surface_compare.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/malformed.h"
 
@@ -327,7 +327,7 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
 // the quality floor: the Duck's PNG made JPEG (q85). With the flat mean fill
 // beyond the gutters its atlas came out larger than the source (the steps
 // at every patch outline cost JPEG coefficients); the pull-push fill
-// (codec/atlas_fill.h) keeps the outlines smooth.
+// (codec/encode/texture/atlas_fill.h) keeps the outlines smooth.
 TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   GLTFWARP_REQUIRE_CORPUS();
   const std::string path = corpus_path("Duck");

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <functional>
 
-#include "codec/tangents.h"
-#include "codec/warp.h"
+#include "codec/decode/tangents.h"
+#include "codec/encode/texture/warp.h"
 
 namespace gltfwarp {
 namespace {

@@ -3,7 +3,7 @@
 // mesh is measured within its point budget.
 #include <gtest/gtest.h>
 
-#include "codec/warp_quality.h"
+#include "codec/encode/texture/warp_quality.h"
 
 namespace gltfwarp {
 namespace {

@@ -10,8 +10,8 @@
 #include <span>
 #include <vector>
 
-#include "format/decode_uvs.h"
-#include "format/uvmap_codec.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 
 namespace {
 

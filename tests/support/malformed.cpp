@@ -23,9 +23,9 @@
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
 
-#include "codec/sample_model.h"
-#include "format/gltf_accessors.h"
-#include "format/gltf_io.h"
+#include "tests/support/testing/sample_model.h"
+#include "format/gltf/gltf_accessors.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::test {
 
