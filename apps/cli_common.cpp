@@ -1,7 +1,7 @@
 // What both halves of the CLI share (sources in commands.h).
+#include <unistd.h>
 #include <cstdio>
 #include <exception>
-#include <unistd.h>
 
 #include "apps/commands.h"
 
@@ -55,7 +55,8 @@ int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** ar
 
 const std::vector<Verb>& all_verbs() {
   static const std::vector<Verb> verbs = {
-      {"encode", "Encode: drop TEXCOORD_0, write Draco geometry, the UV bitstream and warped textures", nullptr},
+      {"encode", "Encode: drop TEXCOORD_0, write Draco geometry, the UV bitstream and warped textures",
+       nullptr},
       {"decode", "Decode: rebuild TEXCOORD_0 and write a standard glTF 2.0 file", nullptr},
       {"info", "Per-primitive sizes, patches and bitstream sections of a glTF file", nullptr},
       {"sample", "Write a generated textured sample model (.glb or .gltf)", nullptr},

@@ -17,7 +17,8 @@ Runner add_decode(CLI::App& app) {
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Encoded .gltf or .glb")->required()->check(CLI::ExistingFile);
   app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container")->required();
-  app.add_flag("--keep-draco", a->opt.keep_draco, "Keep the geometry Draco-compressed (with the rebuilt UVs)");
+  app.add_flag("--keep-draco", a->opt.keep_draco,
+               "Keep the geometry Draco-compressed (with the rebuilt UVs)");
   app.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   return [a]() {
     const auto t0 = std::chrono::steady_clock::now();

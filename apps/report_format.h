@@ -7,6 +7,7 @@
 
 namespace gltfwarp::cli {
 
-void print_encode_report(const EncodeReport& report, const std::string& in, const std::string& out, double seconds);
+void print_encode_report(const EncodeReport& report, const std::string& in, const std::string& out,
+                         double seconds);
 
 }  // namespace gltfwarp::cli

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <map>
 
-#include "codec/encode/partition/embed.h"
 #include "codec/core/layout.h"
+#include "codec/encode/partition/embed.h"
 #include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
@@ -68,4 +68,3 @@ BENCHMARK(BM_Replay)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMi
 
 }  // namespace
 }  // namespace gltfwarp
-

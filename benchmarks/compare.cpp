@@ -49,15 +49,15 @@
 
 #include "codec/core/corner_match.h"
 #include "codec/decode/decoder.h"
-#include "format/gltf/draco_geometry.h"
 #include "codec/encode/encoder.h"
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/texture_sampler.h"
+#include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/draco_geometry.h"
 #include "format/gltf/extension.h"
 #include "format/gltf/gltf_io.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
-#include "format/bitstream/uvmap_codec.h"
 
 using namespace gltfwarp;
 using json = nlohmann::ordered_json;
@@ -90,7 +90,8 @@ size_t draco_bytes(const std::vector<VertexAttribute>& attrs, const std::vector<
   return e.bytes.size();
 }
 
-std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs, const std::set<std::string>& drop) {
+std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs,
+                                     const std::set<std::string>& drop) {
   std::vector<VertexAttribute> out;
   for (const auto& a : attrs)
     if (!drop.count(a.semantic)) out.push_back(a);
@@ -137,7 +138,7 @@ struct TextureCache {
 
 struct Psnr {
   double sse = 0;
-  size_t samples = 0;      // colour samples (3 values each)
+  size_t samples = 0;  // colour samples (3 values each)
   size_t faces_skipped = 0;
   double value() const {
     if (!samples) return 0;
@@ -163,7 +164,8 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
     const auto& sp = source.meshes[mi].primitives[pi];
     const auto& dp = decoded.meshes[mi].primitives[pi];
     PrimitiveGeometry sg, dg;
-    if (!read_primitive(source, sp, sg).empty() || !read_primitive(decoded, dp, dg).empty()) fail("read_primitive");
+    if (!read_primitive(source, sp, sg).empty() || !read_primitive(decoded, dp, dg).empty())
+      fail("read_primitive");
     const VertexAttribute *spos = sg.find("POSITION"), *dpos = dg.find("POSITION");
     const VertexAttribute *suv_a = sg.find("TEXCOORD_0"), *duv_a = dg.find("TEXCOORD_0");
     if (!spos || !dpos || !suv_a || !duv_a) fail("psnr: primitive lacks POSITION or TEXCOORD_0");
@@ -220,8 +222,9 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
         r.faces_skipped++;
         continue;
       }
-      const double area = 0.5 * std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
-                                         (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
+      const double area = 0.5 *
+                          std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
+                                   (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
                           ref_w * ref_h;
       const int n = std::clamp(int(std::ceil(std::sqrt(area))), 2, 64);
       auto visit = [&](double b1, double b2) {
@@ -254,7 +257,9 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
     if (debug) {  // the decoded colours painted at the source UVs: compare by eye with the source texture
       OIIO::ImageBuf img(OIIO::ImageSpec(ref_w, ref_h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
       static int call = 0;
-      img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" + std::to_string(pi) + ".png", OIIO::TypeDesc::UINT8);
+      img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" +
+                    std::to_string(pi) + ".png",
+                OIIO::TypeDesc::UINT8);
     }
   }
   return r;
@@ -278,14 +283,17 @@ void save(tinygltf::Model m, const std::string& path) {
 size_t image_bytes(const tinygltf::Model& m) {
   size_t n = 0;
   for (const auto& im : m.images) {
-    if (!im.image.empty()) n += im.image.size();
-    else if (im.bufferView >= 0) n += m.bufferViews[im.bufferView].byteLength;
+    if (!im.image.empty())
+      n += im.image.size();
+    else if (im.bufferView >= 0)
+      n += m.bufferViews[im.bufferView].byteLength;
   }
   return n;
 }
 
 // Replaces every image by `bytes` (mime given).
-void replace_images(tinygltf::Model& m, const std::function<std::vector<uint8_t>(const std::vector<uint8_t>&)>& f,
+void replace_images(tinygltf::Model& m,
+                    const std::function<std::vector<uint8_t>(const std::vector<uint8_t>&)>& f,
                     const std::string& mime) {
   for (auto& im : m.images) {
     std::vector<uint8_t> bytes = im.image;
@@ -437,7 +445,8 @@ int main(int argc, char** argv) {
     }
     if (g.find("TANGENT")) {
       const std::vector<VertexAttribute> no_tangent = without(g.attributes, {"TANGENT"});
-      const size_t a = draco_bytes(g.attributes, g.triangles, {}), z = draco_bytes(no_tangent, g.triangles, {});
+      const size_t a = draco_bytes(g.attributes, g.triangles, {}),
+                   z = draco_bytes(no_tangent, g.triangles, {});
       tangent += a > z ? a - z : 0;
     }
   }
@@ -495,7 +504,8 @@ int main(int argc, char** argv) {
       return b;
     }();
     tinygltf::Model a = src;
-    replace_images(a, [](const std::vector<uint8_t>&) { return kPng; }, "image/png");
+    replace_images(
+        a, [](const std::vector<uint8_t>&) { return kPng; }, "image/png");
     tinygltf::Model b = a;
     for (auto [mi, pi] : replaced) {
       a.meshes[mi].primitives[pi].attributes.erase("TANGENT");
@@ -559,8 +569,11 @@ int main(int argc, char** argv) {
 
   // Rate-distortion points for the plot.
   json points = json::array();
-  points.push_back({{"codec", "ours"}, {"setting", "default"}, {"bytes", file_size(ours_path)}, {"psnr", q_ours.value()}});
-  points.push_back({{"codec", "draco12"}, {"setting", "original images"}, {"bytes", file_size(d12_path)},
+  points.push_back(
+      {{"codec", "ours"}, {"setting", "default"}, {"bytes", file_size(ours_path)}, {"psnr", q_ours.value()}});
+  points.push_back({{"codec", "draco12"},
+                    {"setting", "original images"},
+                    {"bytes", file_size(d12_path)},
                     {"psnr", q_d12.value()}});
   if (rd && !replaced.empty()) {
     const float scale = first_texel_scale(ours.model);
@@ -570,8 +583,10 @@ int main(int argc, char** argv) {
       int quality;
       double density_factor;
     };
-    const std::vector<Variant> vs = {{"jpeg q90", "jpeg", 90, 1},        {"jpeg q75", "jpeg", 75, 1},
-                                     {"jpeg q50", "jpeg", 50, 1},        {"png, density x0.5", "png", 0, 0.5},
+    const std::vector<Variant> vs = {{"jpeg q90", "jpeg", 90, 1},
+                                     {"jpeg q75", "jpeg", 75, 1},
+                                     {"jpeg q50", "jpeg", 50, 1},
+                                     {"png, density x0.5", "png", 0, 0.5},
                                      {"jpeg q75, density x0.5", "jpeg", 75, 0.5}};
     for (const auto& v : vs) {
       EncodeOptions o;
@@ -585,7 +600,8 @@ int main(int argc, char** argv) {
       const std::string p = work + "/ours_variant.glb";
       save(t.model, p);
       const Psnr q = texture_psnr(src, decode(load(p)), replaced, o.draco.position_bits);
-      points.push_back({{"codec", "ours"}, {"setting", v.name}, {"bytes", file_size(p)}, {"psnr", q.value()}});
+      points.push_back(
+          {{"codec", "ours"}, {"setting", v.name}, {"bytes", file_size(p)}, {"psnr", q.value()}});
     }
     for (int quality : {90, 75, 50}) {
       tinygltf::Model m = load(d12_path);

@@ -16,7 +16,8 @@ namespace {
 template <typename T>
 void check_random(bool deep) {
   std::mt19937 rng(deep ? 7 : 3);
-  for (const auto [w, h, nch] : {std::array<int, 3>{1, 1, 3}, {7, 5, 1}, {33, 17, 3}, {64, 64, 4}, {1, 40, 2}}) {
+  for (const auto [w, h, nch] :
+       {std::array<int, 3>{1, 1, 3}, {7, 5, 1}, {33, 17, 3}, {64, 64, 4}, {1, 40, 2}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(nch));
     const size_t n = size_t(w) * h;
     std::vector<T> px(n * nch);

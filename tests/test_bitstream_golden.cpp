@@ -134,7 +134,8 @@ TEST(BitstreamGolden, V1_0DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_0EveryTruncationIsRejected) {
-  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0)));
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0)));
 }
 
 TEST(BitstreamGolden, WriterReproducesV1_1Bytes) {
@@ -166,5 +167,6 @@ TEST(BitstreamGolden, V1_1DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_1EveryTruncationIsRejected) {
-  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
 }

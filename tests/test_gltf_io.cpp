@@ -45,7 +45,8 @@ TEST(GltfIo, WritesGlbAndGltfThatReadBackTheSame) {
       EXPECT_EQ(back.images.size(), images);
       EXPECT_EQ(back.nodes.size(), nodes);
       EXPECT_EQ(back.animations.size(), anims);
-      for (size_t i = 0; i < images; ++i) EXPECT_EQ(back.images[i].image.size(), image_bytes[i]) << "image " << i;
+      for (size_t i = 0; i < images; ++i)
+        EXPECT_EQ(back.images[i].image.size(), image_bytes[i]) << "image " << i;
     }
   }
 }

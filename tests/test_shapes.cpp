@@ -4,8 +4,8 @@
 
 #include <cmath>
 
-#include "tests/support/testing/shapes.h"
 #include "codec/core/topology.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {

@@ -32,8 +32,8 @@ double dist2(const float* a, const float* b) {
 
 }  // namespace
 
-CornerMatch match_corners(const std::vector<float>& sp, const std::vector<uint32_t>& st, const std::vector<float>& dp,
-                          const std::vector<uint32_t>& dt, double tolerance) {
+CornerMatch match_corners(const std::vector<float>& sp, const std::vector<uint32_t>& st,
+                          const std::vector<float>& dp, const std::vector<uint32_t>& dt, double tolerance) {
   CornerMatch r;
   r.source_corner.assign(dt.size(), 0);
   const size_t sn = sp.size() / 3;
@@ -58,8 +58,8 @@ CornerMatch match_corners(const std::vector<float>& sp, const std::vector<uint32
   Grid grid{tol * 2, {}};
   grid.cells.reserve(sn);
   for (size_t v = 0; v < sn; ++v)
-    grid.cells[Grid::key(grid.coord(sp[3 * v]), grid.coord(sp[3 * v + 1]), grid.coord(sp[3 * v + 2]))].push_back(
-        static_cast<uint32_t>(v));
+    grid.cells[Grid::key(grid.coord(sp[3 * v]), grid.coord(sp[3 * v + 1]), grid.coord(sp[3 * v + 2]))]
+        .push_back(static_cast<uint32_t>(v));
   const double tol2 = tol * tol;
   std::vector<uint8_t> used(sf, 0);
 

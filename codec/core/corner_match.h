@@ -17,8 +17,9 @@ struct CornerMatch {
 
 // Positions are xyz floats. `tolerance` is the largest distance a decoded
 // position may lie from its source (e.g. the quantization step).
-CornerMatch match_corners(const std::vector<float>& source_positions, const std::vector<uint32_t>& source_triangles,
-                          const std::vector<float>& decoded_positions, const std::vector<uint32_t>& decoded_triangles,
-                          double tolerance);
+CornerMatch match_corners(const std::vector<float>& source_positions,
+                          const std::vector<uint32_t>& source_triangles,
+                          const std::vector<float>& decoded_positions,
+                          const std::vector<uint32_t>& decoded_triangles, double tolerance);
 
 }  // namespace gltfwarp

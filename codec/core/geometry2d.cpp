@@ -72,9 +72,7 @@ int orient2d_exact(Vec2 a, Vec2 b, Vec2 c) {
 
 }  // namespace
 
-double orient2d(Vec2 a, Vec2 b, Vec2 c) {
-  return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
-}
+double orient2d(Vec2 a, Vec2 b, Vec2 c) { return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x); }
 
 int orient2d_sign(Vec2 a, Vec2 b, Vec2 c) {
   // Shewchuk's orient2d filter: the signs of the two rounded products are
@@ -121,8 +119,7 @@ bool triangles_overlap(const Vec2 a[3], const Vec2 b[3]) {
     for (int i = 0; i < 3; ++i) {
       const Vec2 e0 = p[i], e1 = p[(i + 1) % 3];
       bool some_inside = false;
-      for (int j = 0; j < 3 && !some_inside; ++j)
-        some_inside = orient2d_sign(e0, e1, q[j]) * s > 0;
+      for (int j = 0; j < 3 && !some_inside; ++j) some_inside = orient2d_sign(e0, e1, q[j]) * s > 0;
       if (!some_inside) return false;  // separated by this edge's line
     }
   }
@@ -131,11 +128,8 @@ bool triangles_overlap(const Vec2 a[3], const Vec2 b[3]) {
 
 std::vector<Vec2> convex_hull(std::span<const Vec2> points) {
   std::vector<Vec2> p(points.begin(), points.end());
-  std::sort(p.begin(), p.end(),
-            [](Vec2 l, Vec2 r) { return l.x < r.x || (l.x == r.x && l.y < r.y); });
-  p.erase(std::unique(p.begin(), p.end(),
-                      [](Vec2 l, Vec2 r) { return l.x == r.x && l.y == r.y; }),
-          p.end());
+  std::sort(p.begin(), p.end(), [](Vec2 l, Vec2 r) { return l.x < r.x || (l.x == r.x && l.y < r.y); });
+  p.erase(std::unique(p.begin(), p.end(), [](Vec2 l, Vec2 r) { return l.x == r.x && l.y == r.y; }), p.end());
   if (p.size() < 3) return p;
   std::vector<Vec2> h(2 * p.size());
   size_t k = 0;

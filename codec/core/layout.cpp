@@ -19,19 +19,24 @@ namespace gltfwarp {
 
 const char* to_string(LayoutStatus s) {
   switch (s) {
-    case LayoutStatus::ok: return "ok";
-    case LayoutStatus::bad_patch_id: return "bad patch id";
-    case LayoutStatus::patch_order: return "patches not numbered by lowest face";
-    case LayoutStatus::unreachable_face: return "a face of a patch is never reached";
-    case LayoutStatus::bad_mesh: return "index out of range";
-    case LayoutStatus::bad_seed: return "seed outside its patch";
+    case LayoutStatus::ok:
+      return "ok";
+    case LayoutStatus::bad_patch_id:
+      return "bad patch id";
+    case LayoutStatus::patch_order:
+      return "patches not numbered by lowest face";
+    case LayoutStatus::unreachable_face:
+      return "a face of a patch is never reached";
+    case LayoutStatus::bad_mesh:
+      return "index out of range";
+    case LayoutStatus::bad_seed:
+      return "seed outside its patch";
   }
   return "unknown";
 }
 
 void place_seed(const TriMesh& m, uint32_t face, Vec2 out[3]) {
-  const uint32_t v0 = m.indices[3 * face], v1 = m.indices[3 * face + 1],
-                 v2 = m.indices[3 * face + 2];
+  const uint32_t v0 = m.indices[3 * face], v1 = m.indices[3 * face + 1], v2 = m.indices[3 * face + 2];
   out[0] = {0.0, 0.0};
   const double l01s = length3_sq(m, v0, v1), l02s = length3_sq(m, v0, v2);
   const double l01 = std::sqrt(l01s), l02 = std::sqrt(l02s);
@@ -120,8 +125,8 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
   return p;
 }
 
-void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count, std::vector<uint32_t>& start,
-                    std::vector<uint32_t>& faces) {
+void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                    std::vector<uint32_t>& start, std::vector<uint32_t>& faces) {
   const size_t nf = patch_of_face.size();
   start.assign(size_t{patch_count} + 1, 0);
   for (size_t f = 0; f < nf; ++f) ++start[patch_of_face[f] + 1];
@@ -170,8 +175,10 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   for (uint32_t f = 0; f < nf; ++f) {
     const uint32_t p = patch_of_face[f];
     if (p >= patch_count) return LayoutStatus::bad_patch_id;
-    if (p == next) ++next;
-    else if (p > next) return LayoutStatus::patch_order;
+    if (p == next)
+      ++next;
+    else if (p > next)
+      return LayoutStatus::patch_order;
   }
   if (next != patch_count) return LayoutStatus::bad_patch_id;
   if (!seeds.empty()) {

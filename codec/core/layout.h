@@ -92,8 +92,8 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
 
 // The faces of each patch in ascending order, by a counting sort: patch p's
 // faces are faces[start[p] .. start[p + 1]). Every id must be < patch_count.
-void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count, std::vector<uint32_t>& start,
-                    std::vector<uint32_t>& faces);
+void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                    std::vector<uint32_t>& start, std::vector<uint32_t>& faces);
 
 // Building blocks of the replay, exposed so that the encoder's growth
 // (codec/encode/partition/embed.cpp) computes exactly the same floats for the same inputs.
@@ -112,8 +112,7 @@ struct Unfolding {
   Vec2 a, b;
   double la = 0, lb = 0, lab2 = 0;
 };
-inline Unfolding make_unfolding(const TriMesh& m, uint32_t q, uint32_t va, uint32_t vb, Vec2 a,
-                                Vec2 b) {
+inline Unfolding make_unfolding(const TriMesh& m, uint32_t q, uint32_t va, uint32_t vb, Vec2 a, Vec2 b) {
   Unfolding u;
   u.a = a;
   u.b = b;

@@ -41,8 +41,8 @@ double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]) {
 
 // Area of the patch's triangles over the area of the min-area rectangle of
 // its corners (1 for an empty or zero-area patch).
-double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy,
-                  std::vector<Vec2>& scratch, double* area_out) {
+double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy, std::vector<Vec2>& scratch,
+                  double* area_out) {
   scratch.clear();
   double area = 0;
   for (uint32_t f : faces) {
@@ -57,12 +57,10 @@ double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy
 }
 
 EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
-                              uint32_t patch_count, std::span<const double> corner_xy,
-                              double tau) {
+                              uint32_t patch_count, std::span<const double> corner_xy, double tau) {
   EmbedReport r;
   const uint32_t nf = mesh.face_count();
-  if (!mesh_indices_valid(mesh) || patch_of_face.size() != nf || corner_xy.size() != size_t{nf} * 6)
-    return r;
+  if (!mesh_indices_valid(mesh) || patch_of_face.size() != nf || corner_xy.size() != size_t{nf} * 6) return r;
   for (uint32_t f = 0; f < nf; ++f)
     if (patch_of_face[f] >= patch_count) return r;
   r.patch_count = patch_count;
@@ -117,11 +115,16 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
     for (uint32_t f : faces)
       for (int k = 0; k < 3 && hole; ++k) {
         const uint32_t o = opp[3 * f + k];
-        if (o == kNone) { hole = false; break; }
+        if (o == kNone) {
+          hole = false;
+          break;
+        }
         const uint32_t q = patch_of_face[o / 3];
         if (q == p) continue;
-        if (other == kNone) other = q;
-        else if (other != q) hole = false;
+        if (other == kNone)
+          other = q;
+        else if (other != q)
+          hole = false;
       }
     r.holes += hole && other != kNone;
   }

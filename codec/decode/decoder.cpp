@@ -20,7 +20,8 @@ namespace {
 void renormalize_weights(PrimitiveGeometry& geom) {
   std::vector<VertexAttribute*> sets;
   for (auto& a : geom.attributes)
-    if (a.semantic.rfind("WEIGHTS_", 0) == 0 && a.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT) sets.push_back(&a);
+    if (a.semantic.rfind("WEIGHTS_", 0) == 0 && a.component_type == TINYGLTF_COMPONENT_TYPE_FLOAT)
+      sets.push_back(&a);
   if (sets.empty()) return;
   for (size_t v = 0; v < geom.vertex_count(); ++v) {
     double sum = 0;

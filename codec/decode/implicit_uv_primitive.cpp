@@ -57,23 +57,26 @@ void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corne
     const uint8_t* src = a.data.data();
     switch (es) {  // fixed sizes let the copy inline
       case 12:
-        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * 12, src + size_t{origin[i]} * 12, 12);
+        for (size_t i = 0; i < origin.size(); ++i)
+          std::memcpy(dst + i * 12, src + size_t{origin[i]} * 12, 12);
         break;
       case 16:
-        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * 16, src + size_t{origin[i]} * 16, 16);
+        for (size_t i = 0; i < origin.size(); ++i)
+          std::memcpy(dst + i * 16, src + size_t{origin[i]} * 16, 16);
         break;
       default:
-        for (size_t i = 0; i < origin.size(); ++i) std::memcpy(dst + i * es, src + size_t{origin[i]} * es, es);
+        for (size_t i = 0; i < origin.size(); ++i)
+          std::memcpy(dst + i * es, src + size_t{origin[i]} * es, es);
     }
     a.data.swap(out);
   }
   geom.attributes.push_back(VertexAttribute::from_floats("TEXCOORD_0", 2, uvs));
 }
 
-std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& geom) {
+std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                              PrimitiveGeometry& geom) {
   const auto& ext = prim.extensions.at(ext::kName);
-  if (!ext.IsObject() || !ext.Has("bufferView"))
-    return std::string(ext::kName) + " object has no bufferView";
+  if (!ext.IsObject() || !ext.Has("bufferView")) return std::string(ext::kName) + " object has no bufferView";
   const int view = value_index(ext.Get("bufferView"));
   if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
     return std::string(ext::kName) + " names a missing bufferView";
@@ -106,7 +109,8 @@ std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Prim
   if (corner_uv.size() != geom.triangles.size() * 2) return "bad UV bitstream: wrong number of corner UVs";
 
   split_by_corner_uv(geom, corner_uv);
-  const bool tangents = ext.Has("tangents") && ext.Get("tangents").IsBool() && ext.Get("tangents").Get<bool>();
+  const bool tangents =
+      ext.Has("tangents") && ext.Get("tangents").IsBool() && ext.Get("tangents").Get<bool>();
   const VertexAttribute* normal = geom.find("NORMAL");
   if (tangents && normal && normal->components == 3) {
     geom.erase("TANGENT");

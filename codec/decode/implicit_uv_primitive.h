@@ -15,7 +15,8 @@ namespace gltfwarp {
 // decode_uvs on the embedding mesh, splits every point whose corners got
 // different UVs, and, when the extension asks for it, adds MikkTSpace-style
 // TANGENTs from the new UVs. Empty string or a one-line error.
-std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& geom);
+std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                              PrimitiveGeometry& geom);
 
 // Splits points by per-corner UV: one output vertex per distinct (point, uv)
 // pair, in order of first use; every attribute is carried along and

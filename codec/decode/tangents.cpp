@@ -62,7 +62,7 @@ class GroupTable {
   // Returns the group of k, adding it as group size() when new.
   uint32_t find_or_add(const Key& k, bool& fresh) {
     const size_t mask = slots_.size() - 1;
-    for (size_t i = KeyHash{}(k) & mask;; i = (i + 1) & mask) {
+    for (size_t i = KeyHash{}(k)&mask;; i = (i + 1) & mask) {
       const uint32_t g = slots_[i];
       if (g == UINT32_MAX) {
         slots_[i] = static_cast<uint32_t>(keys_.size());
@@ -113,7 +113,9 @@ std::vector<float> corner_tangents_impl(const TriMesh& mesh, std::span<const flo
     const float* p = &mesh.positions[3 * size_t(mesh.indices[c])];
     return V3{p[0], p[1], p[2]};
   };
-  auto N = [&](size_t c) { return unit(V3{corner_normals[3 * c], corner_normals[3 * c + 1], corner_normals[3 * c + 2]}); };
+  auto N = [&](size_t c) {
+    return unit(V3{corner_normals[3 * c], corner_normals[3 * c + 1], corner_normals[3 * c + 2]});
+  };
   std::vector<uint32_t> group_of(nc);
   std::vector<V3> sum;
   std::vector<double> bsign;

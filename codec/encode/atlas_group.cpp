@@ -2,28 +2,28 @@
 // bitstream, UVs from decode_uvs (the decoder's own function), then the
 // warp of every TEXCOORD_0 texture and the material retargeting.
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <optional>
 #include <set>
 #include <tuple>
 
-#include "format/gltf/draco_geometry.h"
-#include "codec/encode/texture/image_io.h"
-#include "codec/encode/texture/png_palette.h"
-#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/decode/tangents.h"
 #include "codec/encode/atlas/pack.h"
 #include "codec/encode/atlas/pages.h"
-#include "codec/decode/tangents.h"
 #include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/png_palette.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "codec/encode/texture/warp.h"
 #include "codec/encode/texture/warp_quality.h"
 #include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/draco_geometry.h"
 #include "format/gltf/extension.h"
 #include "format/gltf/gltf_materials.h"
-#include "format/bitstream/uvmap_codec.h"
 
 namespace gltfwarp {
 namespace {
@@ -43,7 +43,8 @@ std::string output_mime(std::span<const uint8_t> source, const std::string& want
 // most frequent ones (dominant_colours). The warp's filtered edges would
 // otherwise bring hundreds of new colours: Fox's atlas 31.7 -> 18.9 KB
 // against its 26.8 KB source. Empty: truecolour.
-std::vector<PaletteEntry> source_palette(std::span<const uint8_t> source_bytes, const OIIO::ImageBuf& source) {
+std::vector<PaletteEntry> source_palette(std::span<const uint8_t> source_bytes,
+                                         const OIIO::ImageBuf& source) {
   std::vector<PaletteEntry> palette = png_palette(source_bytes);
   if (palette.empty()) palette = dominant_colours(source);
   return palette;
@@ -52,7 +53,8 @@ std::vector<PaletteEntry> source_palette(std::span<const uint8_t> source_bytes, 
 // Whether an atlas is written with its source's palette: PNG kept as PNG,
 // 8-bit colour, and not a normal map (its texels are re-expressed in new
 // frames, so they leave any palette).
-bool palette_applies(const OIIO::ImageBuf& atlas, const std::string& mime, bool normal_map, const std::string& wanted) {
+bool palette_applies(const OIIO::ImageBuf& atlas, const std::string& mime, bool normal_map,
+                     const std::string& wanted) {
   const OIIO::ImageSpec& spec = atlas.spec();
   return mime == "image/png" && wanted == "keep" && !normal_map && spec.format == OIIO::TypeDesc::UINT8 &&
          spec.nchannels >= 3;
@@ -60,8 +62,8 @@ bool palette_applies(const OIIO::ImageBuf& atlas, const std::string& mime, bool 
 
 // Encodes a warped atlas: indexed with `palette` when it has entries (the
 // atlas is then already snapped to it), else in its output format.
-std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette, const std::string& mime,
-                         int quality, std::vector<uint8_t>& bytes) {
+std::string encode_atlas(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
+                         const std::string& mime, int quality, std::vector<uint8_t>& bytes) {
   if (!palette.empty()) return encode_indexed_png(atlas, palette, bytes);
   std::string err;
   encode_image(atlas, mime, quality, bytes, err);
@@ -84,7 +86,8 @@ TangentFrames corner_frames(const ImplicitPrimitive& ip) {
     f.normals = flat_corner_normals(ip.tri);
   }
   // The source's own TANGENT when it has one: viewers light it in that frame.
-  f.old_tangents = ip.source_tangents.empty() ? corner_tangents(ip.tri, f.normals, ip.source_uv) : ip.source_tangents;
+  f.old_tangents =
+      ip.source_tangents.empty() ? corner_tangents(ip.tri, f.normals, ip.source_uv) : ip.source_tangents;
   f.new_tangents = corner_tangents(ip.tri, f.normals, ip.corner_uv);
   return f;
 }
@@ -151,10 +154,10 @@ struct WarpJob {
 // so the encoder can measure it and try again or give up.
 struct GroupAtlas {
   AtlasReport report;
-  std::vector<UvMap> maps;                      // per member
+  std::vector<UvMap> maps;                       // per member
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
-  SurfaceError error;                           // colour slots: warped atlas against the source
+  SurfaceError error;  // colour slots: warped atlas against the source
   // The same per source image (pages pooled). The quality floor holds for
   // each image, so each material variant (usually its own images) keeps it,
   // not only the group's images on average.
@@ -165,11 +168,11 @@ struct GroupAtlas {
       if (e.values) worst = std::min(worst, e.psnr());
     return worst;
   }
-  bool capped = false;                          // the atlas was shrunk to fit --max-atlas-size
-  uint32_t patch_count = 0;                     // over the members, numbered member by member
-  std::vector<SurfaceError> patch_error;        // per patch, colour slots
-  std::vector<double> patch_texels;             // per patch: its triangles' area in atlas texels
-  std::vector<std::vector<size_t>> pages;       // members (indices into group.members) per page
+  bool capped = false;                     // the atlas was shrunk to fit --max-atlas-size
+  uint32_t patch_count = 0;                // over the members, numbered member by member
+  std::vector<SurfaceError> patch_error;   // per patch, colour slots
+  std::vector<double> patch_texels;        // per patch: its triangles' area in atlas texels
+  std::vector<std::vector<size_t>> pages;  // members (indices into group.members) per page
   std::vector<uint32_t> page_of_member;
 };
 
@@ -177,13 +180,15 @@ struct GroupAtlas {
 // each patch: its density against the reference, with its adaptive bias.
 std::vector<double> member_texels(const AtlasGroup& group, const ImplicitPlan& plan,
                                   const std::vector<std::vector<double>>& density,
-                                  const std::vector<std::vector<int32_t>>& step_bias, double scale, double reference) {
+                                  const std::vector<std::vector<int32_t>>& step_bias, double scale,
+                                  double reference) {
   std::vector<double> texels(group.members.size(), 0.0);
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
-    const auto patch = estimated_patch_texels(ip.corner_xy, ip.patch_of_face, ip.patch_count,
-                                              reference > 0 ? std::span<const double>(density[k]) : std::span<const double>(),
-                                              reference > 0 ? scale / reference : scale);
+    const auto patch = estimated_patch_texels(
+        ip.corner_xy, ip.patch_of_face, ip.patch_count,
+        reference > 0 ? std::span<const double>(density[k]) : std::span<const double>(),
+        reference > 0 ? scale / reference : scale);
     for (uint32_t p = 0; p < ip.patch_count; ++p) {
       const double s = k < step_bias.size() && p < step_bias[k].size() ? patch_scale(step_bias[k][p]) : 1.0;
       texels[k] += patch[p] * s * s;
@@ -205,19 +210,22 @@ std::vector<std::vector<size_t>> spread_over_pages(std::span<const double> texel
     return {all};
   }
   uint32_t count = 0;
-  return within_part_count(capacity, max_pages, [&](double c, uint32_t& n) {
-    auto pages = assign_pages(texels, c);
-    n = uint32_t(pages.size());
-    return pages;
-  }, count);
+  return within_part_count(
+      capacity, max_pages,
+      [&](double c, uint32_t& n) {
+        auto pages = assign_pages(texels, c);
+        n = uint32_t(pages.size());
+        return pages;
+      },
+      count);
 }
 
 // Packs each page of out.pages on its own: out.maps, page_of_member and
 // capped, and the report's page sizes, fill and overlap. `crowded`: a page
 // of several members overflowed (another spread may help); `scale_kept`:
 // the lowest page's texel scale over `scale` (1 when none shrank).
-std::string pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, double scale, GroupAtlas& out,
-                       bool& crowded, double& scale_kept) {
+std::string pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, double scale,
+                       GroupAtlas& out, bool& crowded, double& scale_kept) {
   AtlasReport& ar = out.report;
   out.page_of_member.assign(pp.size(), 0);
   out.maps.assign(pp.size(), UvMap{});
@@ -336,7 +344,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     out.pages = spread_over_pages(texels, capacity, options.max_pages);
     bool crowded = false;
     if (std::string err = pack_pages(pp, po, scale, out, crowded, scale_kept); !err.empty()) return err;
-    if (!crowded || attempt >= 3 || out.pages.size() >= std::min<size_t>(options.max_pages, texels.size())) break;
+    if (!crowded || attempt >= 3 || out.pages.size() >= std::min<size_t>(options.max_pages, texels.size()))
+      break;
   }
   if (out.capped && reference > 0) ar.density_factor = density_factor * scale_kept;
 
@@ -388,8 +397,9 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       const OIIO::ImageBuf& source = cached.pixels;
       if (measure_only && slot.normal_map) continue;  // measured on colour slots only
       WarpOptions wo;
-      wo.encoding = slot.normal_map ? SlotEncoding::normal
-                                    : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
+      wo.encoding = slot.normal_map
+                        ? SlotEncoding::normal
+                        : (slot.color_space == ColorSpace::srgb ? SlotEncoding::srgb : SlotEncoding::linear);
       int gl_wrap_s = 0, gl_wrap_t = 0;
       texture_wraps(model, slot.texture, gl_wrap_s, gl_wrap_t);
       wo.wrap_s = wrap_from_gltf(gl_wrap_s);
@@ -425,7 +435,8 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         const auto [page_width, page_height] = ar.page_sizes[page];
         const WarpStatus ws = warp_texture(source, wp, page_width, page_height, wo, atlas, &wr);
         if (ws != WarpStatus::ok)
-          return "warping image " + std::to_string(image) + ": " + to_string(ws) + (wr.error.empty() ? "" : " " + wr.error);
+          return "warping image " + std::to_string(image) + ": " + to_string(ws) +
+                 (wr.error.empty() ? "" : " " + wr.error);
         WarpJob job;
         job.key = key;
         job.image = image;
@@ -447,14 +458,16 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         OIIO::ImageBuf decoded;
         if (lossy) {
           err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
-          if (err.empty() && !decode_image(job.bytes, decoded, err)) err = "cannot read back the coded atlas: " + err;
+          if (err.empty() && !decode_image(job.bytes, decoded, err))
+            err = "cannot read back the coded atlas: " + err;
           if (!err.empty()) return "image " + std::to_string(image) + ": " + err;
         }
         if (!slot.normal_map) {
           // Normal maps change legitimately (new tangent frames): colour slots only.
           const bool srgb = slot.color_space == ColorSpace::srgb;
           auto [sit, fresh_sampler] = cached.samplers.try_emplace(key);
-          if (fresh_sampler) load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, sit->second);
+          if (fresh_sampler)
+            load_texture_sampler(source, srgb, gl_wrap_s, gl_wrap_t, slot.transform, sit->second);
           const TextureSampler& before = sit->second;
           TextureSampler after;
           load_texture_sampler(lossy ? decoded : atlas, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
@@ -475,8 +488,9 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
 }
 
 // The group's primitives get their bitstreams, its materials the atlases.
-void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group, GroupAtlas& built,
-                        EncodeReport& report, int& clamp_sampler, std::vector<int>& retired_textures) {
+void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                        GroupAtlas& built, EncodeReport& report, int& clamp_sampler,
+                        std::vector<int>& retired_textures) {
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
     const UvMap& map = built.maps[k];
@@ -508,7 +522,8 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
         auto [it, fresh] = material_on_page.try_emplace({mat, page}, mat);
         if (fresh && !placed.insert(mat).second) {
           tinygltf::Material copy = model.materials[mat];
-          copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) + (copy.name.empty() ? "" : ")");
+          copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) +
+                       (copy.name.empty() ? "" : ")");
           model.materials.push_back(std::move(copy));
           it->second = static_cast<int>(model.materials.size() - 1);
         }
@@ -541,8 +556,8 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
   for (const auto& [mat_page, target] : material_on_page)
     for (TextureSlot slot : source_slots[mat_page.first]) {
       if (slot.tex_coord != 0) continue;
-      const JobKey key{texture_image(model, slot.texture), model.textures[slot.texture].sampler, slot.transform,
-                       static_cast<int>(slot.color_space), slot.normal_map};
+      const JobKey key{texture_image(model, slot.texture), model.textures[slot.texture].sampler,
+                       slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
       const auto it = made.find({key, mat_page.second});
       if (it == made.end()) continue;
       retired_textures.push_back(slot.texture);
@@ -555,15 +570,17 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
 // The group's primitive goes back to explicit UVs: its source accessors
 // (still in the model until compact_buffers) are written as plain Draco, or
 // raw, like any primitive without implicit UVs.
-std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options,
-                                 std::vector<int>& replaced, PrimitiveReport& pr, const std::string& why) {
+std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip,
+                                 const EncodeOptions& options, std::vector<int>& replaced,
+                                 PrimitiveReport& pr, const std::string& why) {
   tinygltf::Primitive& prim = model.meshes[ip.mesh].primitives[ip.primitive];
   PrimitiveGeometry geom;
   pr.geometry_bytes = 0;
   pr.bitstream_bytes = 0;
   pr.patches = 0;
   pr.atlas = -1;
-  if (std::string err = rewrite_explicit(model, prim, ip.source_primitive, options, replaced, geom, pr.geometry_bytes);
+  if (std::string err =
+          rewrite_explicit(model, prim, ip.source_primitive, options, replaced, geom, pr.geometry_bytes);
       !err.empty())
     return err;
   pr.handling = "fallback: explicit UVs kept (" + why + ")";
@@ -573,7 +590,8 @@ std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive
 // What the primitive's geometry costs with its explicit UVs: the source
 // primitive as restore_explicit_uvs would write it (Draco, or raw arrays).
 // 0 when it cannot be measured (the comparison then favours the atlas).
-size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options) {
+size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimitive& ip,
+                               const EncodeOptions& options) {
   PrimitiveGeometry geom;
   if (!read_primitive(model, ip.source_primitive, geom).empty()) return 0;
   if (options.raw_geometry) return plain_geometry_bytes(geom);
@@ -586,7 +604,8 @@ size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimi
 // images whose every use, in every material, is a TEXCOORD_0 slot of one of
 // the group's materials. An image that something else samples stays in the
 // file whatever the group does.
-size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group, const GroupAtlas& built) {
+size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group,
+                                const GroupAtlas& built) {
   std::set<int> images;
   for (const WarpJob& job : built.jobs) images.insert(job.image);
   for (int m = 0; m < int(model.materials.size()); ++m) {
@@ -609,10 +628,12 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // images are smaller; otherwise the previous atlas is rebuilt and the search
 // stops.
 std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                                   const EncodeOptions& options, SourceImages& sources, double factor, double min_psnr, GroupAtlas& built) {
+                                   const EncodeOptions& options, SourceImages& sources, double factor,
+                                   double min_psnr, GroupAtlas& built) {
   constexpr int32_t kStep = -2;
   std::vector<std::vector<int32_t>> bias(group.members.size());
-  for (size_t k = 0; k < group.members.size(); ++k) bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
+  for (size_t k = 0; k < group.members.size(); ++k)
+    bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
   const size_t source_bytes = replaceable_source_bytes(model, group, built);
   bool plan_follows_built = true;  // the plan's UVs are those of the last build
   for (int round = 0; round < options.adaptive_rounds; ++round) {
@@ -690,8 +711,9 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
   const bool auto_density = !(options.texel_density > 0);
   // The quality floor holds by default for the default density only: a
   // chosen density (or factor) is a chosen trade-off.
-  const double min_psnr =
-      options.min_psnr >= 0 ? options.min_psnr : (auto_density && options.texel_density_factor == 1.0 ? 38.0 : 0.0);
+  const double min_psnr = options.min_psnr >= 0
+                              ? options.min_psnr
+                              : (auto_density && options.texel_density_factor == 1.0 ? 38.0 : 0.0);
   std::vector<double> factors = {options.texel_density_factor};
   if (auto_density && min_psnr > 0)
     for (double boost : options.density_boosts) factors.push_back(options.texel_density_factor * boost);
@@ -701,8 +723,8 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       auto& pr = report.primitives[plan.prims[m].report_index];
       std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
       if (!err.empty()) return err;
-      report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " + std::to_string(pr.primitive) +
-                             ": " + pr.handling);
+      report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " +
+                             std::to_string(pr.primitive) + ": " + pr.handling);
       plan.group_of.erase({pr.mesh, pr.primitive});
     }
     return {};
@@ -722,14 +744,16 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     }
     if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
         built.floor_psnr() >= min_psnr + 0.5) {
-      std::string err = spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
+      std::string err =
+          spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
       if (!err.empty()) return err;
     }
     const double psnr = built.floor_psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
       char why[160];
-      std::snprintf(why, sizeof why, "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f",
-                    psnr, built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
+      std::snprintf(why, sizeof why,
+                    "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", psnr,
+                    built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
       if (std::string err = keep_explicit(group, why); !err.empty()) return err;
       continue;
     }
@@ -746,11 +770,14 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
       // Explicit geometry costs a Draco encode to measure; skip it when the
       // saved images alone already outweigh everything the map costs.
       if (implicit_bytes > explicit_bytes)
-        for (size_t m : group.members) explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
+        for (size_t m : group.members)
+          explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
       if (implicit_bytes > explicit_bytes) {
         char why[200];
-        std::snprintf(why, sizeof why, "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
-                      "and a %.1f dB atlas", explicit_bytes, implicit_bytes, built.floor_psnr());
+        std::snprintf(why, sizeof why,
+                      "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
+                      "and a %.1f dB atlas",
+                      explicit_bytes, implicit_bytes, built.floor_psnr());
         if (std::string err = keep_explicit(group, why); !err.empty()) return err;
         continue;
       }

@@ -4,7 +4,8 @@
 
 namespace gltfwarp {
 
-PrimitiveGeometry part_geometry(const PrimitiveGeometry& geom, std::span<const uint32_t> part_of_face, uint32_t part) {
+PrimitiveGeometry part_geometry(const PrimitiveGeometry& geom, std::span<const uint32_t> part_of_face,
+                                uint32_t part) {
   PrimitiveGeometry out;
   std::vector<uint32_t> new_id(geom.vertex_count(), UINT32_MAX);
   std::vector<uint32_t> kept;

@@ -15,7 +15,8 @@ namespace gltfwarp {
 
 // The faces of one part, with the vertices they use (renumbered in order of
 // first use) and every attribute of those vertices.
-PrimitiveGeometry part_geometry(const PrimitiveGeometry& geom, std::span<const uint32_t> part_of_face, uint32_t part);
+PrimitiveGeometry part_geometry(const PrimitiveGeometry& geom, std::span<const uint32_t> part_of_face,
+                                uint32_t part);
 
 // Rewrites primitive `primitive` of mesh `mesh` as plain accessors holding
 // part 0 of `geom` (its geometry as read_primitive gives it; one part per

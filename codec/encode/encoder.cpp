@@ -25,7 +25,8 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
   // its mesh: the loop reaches them in turn.
   for (size_t mi = 0; mi < model.meshes.size(); ++mi) {
     for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
-      if (options.progress) options.progress("geometry", std::min(1.0, total ? double(done++) / double(total) : 1.0));
+      if (options.progress)
+        options.progress("geometry", std::min(1.0, total ? double(done++) / double(total) : 1.0));
       const tinygltf::Primitive& source = model.meshes[mi].primitives[pi];
       PrimitiveReport pr;
       pr.mesh = static_cast<int>(mi);
@@ -55,12 +56,14 @@ std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, E
         // prepare_implicit_primitive consumes its geometry; keep the source
         // in case the primitive falls back to explicit UVs.
         PrimitiveGeometry work = geom;
-        err = prepare_implicit_primitive(model, model.meshes[mi].primitives[pi], work, plan, options, replaced, pr);
+        err = prepare_implicit_primitive(model, model.meshes[mi].primitives[pi], work, plan, options,
+                                         replaced, pr);
         if (!err.empty()) return where + ": " + err;
         if (pr.cut_parts > 1)
-          report.notes.push_back(where + " cut into " + std::to_string(pr.cut_parts) +
-                                 " primitives (the others appended to its mesh): its texels would pass one atlas "
-                                 "page (--max-atlas-size, --max-pages)");
+          report.notes.push_back(
+              where + " cut into " + std::to_string(pr.cut_parts) +
+              " primitives (the others appended to its mesh): its texels would pass one atlas "
+              "page (--max-atlas-size, --max-pages)");
         if (plan.is_implicit(pr.mesh, pr.primitive)) {
           plan.prims.back().report_index = report.primitives.size();
         } else {

@@ -10,29 +10,30 @@
 
 #include <tiny_gltf.h>
 
-#include "format/gltf/draco_geometry.h"
 #include "codec/encode/atlas/texel_density.h"
+#include "format/gltf/draco_geometry.h"
 
 namespace gltfwarp {
 
 struct EncodeOptions {
-  DracoOptions draco;             // quantization bits (defaults of common tools)
-  bool raw_geometry = false;      // --geometry raw: float accessors, no Draco
-  bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
-  double tau = 1.3;               // distortion bound of every triangle
-  bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
-  bool report_greedy = false;     // also run greedy on each primitive and report its figures
-  bool keep_source_charts = true; // compact: no patch crosses a source UV seam (source_charts.h) ...
-  bool cross_hidden_seams = true; // ... unless the textures agree across it (seam_continuity.h)
-  double texel_density = 0;       // texels per model unit; 0 = measured from the source (below)
+  DracoOptions draco;              // quantization bits (defaults of common tools)
+  bool raw_geometry = false;       // --geometry raw: float accessors, no Draco
+  bool implicit_uvs = true;        // replace TEXCOORD_0 (off: plain Draco for everything)
+  double tau = 1.3;                // distortion bound of every triangle
+  bool greedy_partition = false;   // the paper's plain greedy growth (baseline)
+  bool report_greedy = false;      // also run greedy on each primitive and report its figures
+  bool keep_source_charts = true;  // compact: no patch crosses a source UV seam (source_charts.h) ...
+  bool cross_hidden_seams = true;  // ... unless the textures agree across it (seam_continuity.h)
+  double texel_density = 0;        // texels per model unit; 0 = measured from the source (below)
   DensityMode texel_budget = DensityMode::preserve_texel_count;  // how "measured" counts source texels
   double texel_density_factor = 1.0;  // multiplies the measured density (e.g. 0.5 for half the detail)
-  uint32_t max_atlas_size = 4096; // largest atlas side in texels
-  uint32_t max_pages = 16;        // pages per atlas group before the density shrinks to fit (codec/encode/atlas/pages.h)
-  int gutter = 4;                 // texels of padding around every patch
-  bool power_of_two = false;      // atlas sides as powers of two (else multiples of 4)
+  uint32_t max_atlas_size = 4096;     // largest atlas side in texels
+  uint32_t max_pages =
+      16;          // pages per atlas group before the density shrinks to fit (codec/encode/atlas/pages.h)
+  int gutter = 4;  // texels of padding around every patch
+  bool power_of_two = false;          // atlas sides as powers of two (else multiples of 4)
   std::string image_format = "keep";  // keep | png | jpeg
-  int jpeg_quality = 0;           // JPEG output quality; 0 = match the source JPEG (90 for others)
+  int jpeg_quality = 0;               // JPEG output quality; 0 = match the source JPEG (90 for others)
   // Quality floor of every warped atlas (surface PSNR against the source,
   // dB, colour slots, of the texels the file will hold: after palette
   // snapping and JPEG coding; warp_quality.h). -1: 38 with the default auto
@@ -63,33 +64,33 @@ struct EncodeOptions {
 
 struct PrimitiveReport {
   int mesh = -1, primitive = -1;
-  std::string handling;       // "implicit-uv", "draco", "raw", "raw: morph targets", "pass: points", ...
+  std::string handling;  // "implicit-uv", "draco", "raw", "raw: morph targets", "pass: points", ...
   size_t triangles = 0, vertices = 0;
-  size_t geometry_bytes = 0;  // Draco bytes (or raw accessor bytes)
-  size_t bitstream_bytes = 0; // our UV bitstream
+  size_t geometry_bytes = 0;   // Draco bytes (or raw accessor bytes)
+  size_t bitstream_bytes = 0;  // our UV bitstream
   uint32_t patches = 0;
   double max_distortion = 0, mean_distortion = 0;
   size_t seam_edges = 0;
-  double rect_fill = 0;       // area-weighted patch area / min-area rectangle
-  uint32_t holes = 0;         // patches of 1-3 faces enclosed by one other patch
-  struct {                    // EncodeOptions::report_greedy: the plain greedy partition's figures
+  double rect_fill = 0;  // area-weighted patch area / min-area rectangle
+  uint32_t holes = 0;    // patches of 1-3 faces enclosed by one other patch
+  struct {               // EncodeOptions::report_greedy: the plain greedy partition's figures
     uint32_t patches = 0, seam_edges = 0, holes = 0;
     double rect_fill = 0;
   } greedy;
-  size_t unmatched_faces = 0; // decoded faces not traced back to a source face
-  int atlas = -1;             // index into EncodeReport::atlases
-  uint32_t cut_parts = 0;     // > 1: the source primitive was cut into this many, one atlas page each
+  size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
+  int atlas = -1;              // index into EncodeReport::atlases
+  uint32_t cut_parts = 0;      // > 1: the source primitive was cut into this many, one atlas page each
 };
 
 struct AtlasReport {
-  std::vector<int> primitives_meshes;  // informative
-  uint32_t width = 0, height = 0;  // the first page's
+  std::vector<int> primitives_meshes;               // informative
+  uint32_t width = 0, height = 0;                   // the first page's
   std::vector<std::array<uint32_t, 2>> page_sizes;  // every page's width and height (one image set each)
-  double fill = 0;              // covered texels / atlas texels, over the pages
+  double fill = 0;                                  // covered texels / atlas texels, over the pages
   size_t overlapping_texels = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
-  double density_factor = 1;    // times the measured texel density
-  double psnr = 0;              // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
+  double density_factor = 1;  // times the measured texel density
+  double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
 };
 
 struct EncodeReport {

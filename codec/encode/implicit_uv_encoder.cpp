@@ -1,27 +1,27 @@
 #include "codec/encode/implicit_uv_encoder.h"
 
 #include <algorithm>
-#include <cstdio>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <set>
 
 #include "codec/core/corner_match.h"
-#include "codec/encode/cut_primitive.h"
-#include "codec/encode/partition/embed.h"
 #include "codec/decode/embedding_mesh.h"
-#include "codec/encode/texture/seam_continuity.h"
-#include "codec/encode/partition/source_charts.h"
-#include "codec/encode/texture/texture_sampler.h"
-#include "codec/encode/texture/image_io.h"
 #include "codec/encode/atlas/pack.h"
 #include "codec/encode/atlas/pages.h"
 #include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/cut_primitive.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/encode/partition/source_charts.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/seam_continuity.h"
+#include "codec/encode/texture/texture_sampler.h"
 #include "codec/encode/texture/warp.h"
 #include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "format/gltf/extension.h"
 #include "format/gltf/gltf_materials.h"
-#include "format/bitstream/uvmap_codec.h"
 
 namespace gltfwarp {
 
@@ -51,8 +51,8 @@ double quantization_tolerance(const VertexAttribute& pos, int bits) {
 // The primitive keeps explicit UVs after all: it gets its own copy of its
 // material (the original is warped for the group's other members, if any)
 // and leaves the plan. pr.handling says why; the caller writes the geometry.
-std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan, PrimitiveReport& pr,
-                      const std::string& why) {
+std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan,
+                      PrimitiveReport& pr, const std::string& why) {
   for (const int material : primitive_materials(prim))
     if (static_cast<size_t>(material) < model.materials.size()) {
       model.materials.push_back(model.materials[material]);
@@ -101,7 +101,8 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
         decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
       }
       if (!decodable[img])
-        report.notes.push_back("image " + std::to_string(img) + " kept as is, explicit UVs kept for its users: " + err);
+        report.notes.push_back("image " + std::to_string(img) +
+                               " kept as is, explicit UVs kept for its users: " + err);
     }
     return decodable[img] == 1;
   };
@@ -114,7 +115,8 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
   for (size_t mi = 0; mi < model.meshes.size(); ++mi)
     for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
       const auto& prim = model.meshes[mi].primitives[pi];
-      if (!is_triangle_mode(prim.mode) || !prim.targets.empty() || !prim.attributes.count("TEXCOORD_0")) continue;
+      if (!is_triangle_mode(prim.mode) || !prim.targets.empty() || !prim.attributes.count("TEXCOORD_0"))
+        continue;
       if (!prim.attributes.count("POSITION")) continue;
       // A TEXCOORD_0 texture whose image we cannot reach or that also names
       // an image through an extension (KHR_texture_basisu, EXT_texture_webp,
@@ -125,10 +127,12 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
       std::string blocker;
       for (const int material : materials) {
         for (const auto& s : texture_slots(model, material)) {
-          if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size()) continue;
+          if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size())
+            continue;
           const auto& tex = model.textures[s.texture];
           for (const auto& [name, ext] : tex.extensions)
-            if (ext.IsObject() && ext.Has("source")) blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
+            if (ext.IsObject() && ext.Has("source"))
+              blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
           if (blocker.empty() && texture_image(model, s.texture) < 0)
             blocker = "texture " + std::to_string(s.texture) + " has no image";
           if (!blocker.empty()) break;
@@ -174,7 +178,8 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
   for (size_t mi = 0; mi < model.meshes.size(); ++mi)
     for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
       if (plan.is_implicit(static_cast<int>(mi), static_cast<int>(pi))) continue;
-      for (const int material : primitive_materials(model.meshes[mi].primitives[pi])) clone_of.emplace(material, -1);
+      for (const int material : primitive_materials(model.meshes[mi].primitives[pi]))
+        clone_of.emplace(material, -1);
     }
   for (auto& c : cands) {
     auto& prim = model.meshes[c.mesh].primitives[c.prim];
@@ -208,8 +213,8 @@ double atlas_density(const ImplicitPrimitive& ip, const Embedding& er, uint32_t 
   return options.texel_density_factor;
 }
 
-std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w, uint32_t image_h,
-                                const EncodeOptions& options) {
+std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w,
+                                uint32_t image_h, const EncodeOptions& options) {
   std::vector<double> face_density;
   const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
   return estimated_face_texels(er.corner_xy, face_density, factor);
@@ -222,7 +227,8 @@ constexpr size_t kHalveChartsFromFaces = 100'000;
 // density); empty otherwise. geom: the primitive as read_primitive gives it;
 // source_corner_uv: its TEXCOORD_0 per corner.
 std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                                        const PrimitiveGeometry& geom, std::span<const float> source_corner_uv,
+                                        const PrimitiveGeometry& geom,
+                                        std::span<const float> source_corner_uv,
                                         const EncodeOptions& options) {
   uint32_t width = 0, height = 0;
   largest_uv0_image(model, prim, width, height);
@@ -242,8 +248,8 @@ std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tiny
   for (uint32_t f = 0; f < texels.size(); ++f) {
     const double area = options.texel_density > 0
                             ? face_area3d(mesh, f) * options.texel_density * options.texel_density
-                            : face_area_texels(source_corner_uv, f, width, height) * options.texel_density_factor *
-                                  options.texel_density_factor;
+                            : face_area_texels(source_corner_uv, f, width, height) *
+                                  options.texel_density_factor * options.texel_density_factor;
     texels[f] = std::isfinite(area) ? area : 0.0;
     total += texels[f];
   }
@@ -256,9 +262,9 @@ std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tiny
   // patches; the 1M-face sample at 4096 encodes in 52 s halved, 81 s not.
   const bool halve = texels.size() >= kHalveChartsFromFaces;
   uint32_t parts = 0;
-  std::vector<uint32_t> part_of_face = within_part_count(capacity, options.max_pages, [&](double c, uint32_t& n) {
-    return split_faces_into_parts(mesh, texels, c, halve, n);
-  }, parts);
+  std::vector<uint32_t> part_of_face = within_part_count(
+      capacity, options.max_pages,
+      [&](double c, uint32_t& n) { return split_faces_into_parts(mesh, texels, c, halve, n); }, parts);
   if (parts < 2) return {};
   return part_of_face;
 }
@@ -273,16 +279,16 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
   if (options.max_pages <= 1 || image_w == 0 || er.patch_count < 2) return {};
   std::vector<double> face_density;
   const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
-  const auto texels = estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
+  const auto texels =
+      estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
   double total = 0;
   for (double t : texels) total += t;
   const double capacity = page_capacity(options.max_atlas_size);
   if (!(capacity > 0) || !(total > capacity)) return {};
   uint32_t parts = 0;
-  const std::vector<uint32_t> part_of_patch =
-      within_part_count(capacity, options.max_pages, [&](double c, uint32_t& n) {
-        return parts_of_patches(ip.tri, er.patch_of_face, texels, c, n);
-      }, parts);
+  const std::vector<uint32_t> part_of_patch = within_part_count(
+      capacity, options.max_pages,
+      [&](double c, uint32_t& n) { return parts_of_patches(ip.tri, er.patch_of_face, texels, c, n); }, parts);
   if (parts < 2) return {};
   // Back to the source's faces. A source face no decoded face came from
   // (one Draco dropped as degenerate) goes to the first part.
@@ -304,7 +310,8 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
 // others.
 std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& source,
                                   std::span<const uint32_t> part_of_face, ImplicitPlan& plan,
-                                  const EncodeOptions& options, std::vector<int>& replaced, PrimitiveReport& pr) {
+                                  const EncodeOptions& options, std::vector<int>& replaced,
+                                  PrimitiveReport& pr) {
   const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
   const int group = plan.group_of.at({pr.mesh, pr.primitive});
   PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
@@ -323,8 +330,9 @@ std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometr
 
 }  // namespace
 
-std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
-                                       ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                       PrimitiveGeometry& geom, ImplicitPlan& plan,
+                                       const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& pr) {
   ImplicitPrimitive ip;
   ip.source_primitive = prim;
@@ -377,12 +385,14 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     ip.decoded = geom;
     pr.geometry_bytes += plain_geometry_bytes(geom);
   } else {
-    std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded, pr.geometry_bytes);
+    std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded,
+                                            pr.geometry_bytes);
     if (!err.empty()) return err;
     tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
   }
   auto discard_trial = [&](const std::string& why) {
-    for (size_t i = accessors_before; i < model.accessors.size(); ++i) replaced.push_back(static_cast<int>(i));
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i)
+      replaced.push_back(static_cast<int>(i));
     pr.geometry_bytes = 0;
     return fall_back(model, prim, plan, pr, why);
   };
@@ -390,15 +400,17 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
 
   std::vector<uint32_t> point_to_vertex;
   ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
-  const CornerMatch match = match_corners(src_pos->to_floats(), geom.triangles,
-                                          ip.decoded.find("POSITION")->to_floats(), ip.decoded.triangles, tolerance);
+  const CornerMatch match =
+      match_corners(src_pos->to_floats(), geom.triangles, ip.decoded.find("POSITION")->to_floats(),
+                    ip.decoded.triangles, tolerance);
   ip.source_uv.resize(ip.decoded.triangles.size() * 2);
   for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
     for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];
   if (!source_corner_tangent.empty()) {
     ip.source_tangents.resize(ip.decoded.triangles.size() * 4);
     for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
-      for (int i = 0; i < 4; ++i) ip.source_tangents[4 * c + i] = source_corner_tangent[4 * match.source_corner[c] + i];
+      for (int i = 0; i < 4; ++i)
+        ip.source_tangents[4 * c + i] = source_corner_tangent[4 * match.source_corner[c] + i];
   }
 
   EmbedOptions eo;
@@ -425,7 +437,8 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
       plan.seam_materials = materials;
     }
     const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
-    face_chart = source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());
+    face_chart =
+        source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());
   }
   eo.face_chart = face_chart;
   // Inside one source chart densities rarely jump (artists give detail its
@@ -435,30 +448,34 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   // and 32 and 297 KB with the rule off.
   if (!face_chart.empty()) eo.max_density_ratio = 32.0;
   Embedding er = embed(ip.tri, eo);
-  if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  if (er.status != LayoutStatus::ok)
+    return discard_trial(std::string("embedding failed: ") + to_string(er.status));
   // A patch larger than a page could not go to pages (a flat ground plane
   // under a big texture is one patch): its faces are split into regions of
   // about half a page that no patch may cross, and the mesh is embedded
   // again, a few times at most.
   for (int round = 0; round < 3 && options.max_pages > 1 && image_w > 0; ++round) {
-    std::vector<uint32_t> regions =
-        split_large_patches(ip.tri, er.patch_of_face, er.patch_count, face_texels(ip, er, image_w, image_h, options),
-                            page_capacity(options.max_atlas_size), face_chart);
+    std::vector<uint32_t> regions = split_large_patches(ip.tri, er.patch_of_face, er.patch_count,
+                                                        face_texels(ip, er, image_w, image_h, options),
+                                                        page_capacity(options.max_atlas_size), face_chart);
     if (regions.empty()) break;
     face_chart = std::move(regions);
     eo.face_chart = face_chart;
     er = embed(ip.tri, eo);
-    if (er.status != LayoutStatus::ok) return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+    if (er.status != LayoutStatus::ok)
+      return discard_trial(std::string("embedding failed: ") + to_string(er.status));
   }
 
   // Too many texels for one atlas page: cut along patch boundaries into
   // parts of about a page each, and start again on the first part (the
   // encoder's loop reaches the others, appended to the mesh).
-  if (std::vector<uint32_t> part_of_face = page_parts(ip, er, match, geom.triangles.size() / 3, image_w, image_h, options);
+  if (std::vector<uint32_t> part_of_face =
+          page_parts(ip, er, match, geom.triangles.size() / 3, image_w, image_h, options);
       !part_of_face.empty()) {
     PrimitiveGeometry source;
     if (std::string err = read_primitive(model, ip.source_primitive, source); !err.empty()) return err;
-    for (size_t i = accessors_before; i < model.accessors.size(); ++i) replaced.push_back(static_cast<int>(i));
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i)
+      replaced.push_back(static_cast<int>(i));
     return cut_and_prepare_first(model, source, part_of_face, plan, options, replaced, pr);
   }
 
@@ -504,9 +521,9 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   return {};
 }
 
-std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
-                             const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
-                             size_t& bytes) {
+std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim,
+                             const tinygltf::Primitive& source, const EncodeOptions& options,
+                             std::vector<int>& replaced, PrimitiveGeometry& geom, size_t& bytes) {
   for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
   if (prim.indices >= 0) replaced.push_back(prim.indices);
   prim = source;
@@ -545,12 +562,12 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
   std::map<int, std::vector<int>> erased;  // mesh -> primitives to erase
   for (auto cut = plan.cuts.rbegin(); cut != plan.cuts.rend(); ++cut) {
     PrimitiveReport* first = entry(cut->mesh, cut->primitive);
-    if (!is_fallback(first) ||
-        !std::all_of(cut->appended.begin(), cut->appended.end(), [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
+    if (!is_fallback(first) || !std::all_of(cut->appended.begin(), cut->appended.end(),
+                                            [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
       continue;
     PrimitiveGeometry geom;
-    if (std::string err = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive], cut->original,
-                                           options, replaced, geom, first->geometry_bytes);
+    if (std::string err = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive],
+                                           cut->original, options, replaced, geom, first->geometry_bytes);
         !err.empty())
       return err;
     first->triangles = geom.triangles.size() / 3;
@@ -574,7 +591,8 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
     for (int p : parts) {
       auto& prims = model.meshes[mesh].primitives;
       prims.erase(prims.begin() + p);
-      std::erase_if(report.primitives, [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
+      std::erase_if(report.primitives,
+                    [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
       for (PrimitiveReport& pr : report.primitives)
         if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
       // Notes on later primitives of the mesh move down too.
@@ -582,7 +600,8 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
         int note_mesh = -1, note_prim = -1;
         size_t rest = 0;
         if (note_names(note, note_mesh, note_prim, rest) && note_mesh == mesh && note_prim > p)
-          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) + note.substr(rest);
+          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) +
+                 note.substr(rest);
       }
     }
   }

@@ -10,8 +10,8 @@
 
 #include <tiny_gltf.h>
 
-#include "codec/encode/encoder.h"
 #include "codec/core/mesh.h"
+#include "codec/encode/encoder.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
@@ -20,16 +20,16 @@ namespace gltfwarp {
 
 struct ImplicitPrimitive {
   int mesh = -1, primitive = -1;
-  size_t report_index = 0;           // into EncodeReport::primitives
-  PrimitiveGeometry decoded;         // what every decoder sees (Draco output or raw arrays)
-  TriMesh tri;                       // embedding mesh (decoded positions welded exactly)
-  std::vector<float> source_uv;      // TEXCOORD_0 of the source, 2 per corner of `tri`
+  size_t report_index = 0;             // into EncodeReport::primitives
+  PrimitiveGeometry decoded;           // what every decoder sees (Draco output or raw arrays)
+  TriMesh tri;                         // embedding mesh (decoded positions welded exactly)
+  std::vector<float> source_uv;        // TEXCOORD_0 of the source, 2 per corner of `tri`
   std::vector<float> source_tangents;  // the source's TANGENT, 4 per corner of `tri` (empty if none)
   std::vector<uint32_t> patch_of_face;
   uint32_t patch_count = 0;
-  std::vector<uint32_t> seeds;       // empty, or the replay's seed face of each patch
-  std::vector<double> corner_xy;     // layout_patches output
-  std::vector<float> corner_uv;      // final UVs (decode_uvs output)
+  std::vector<uint32_t> seeds;    // empty, or the replay's seed face of each patch
+  std::vector<double> corner_xy;  // layout_patches output
+  std::vector<float> corner_uv;   // final UVs (decode_uvs output)
   bool had_tangents = false;
   // The primitive as the source had it, accessors included (they stay in the
   // model until compact_buffers), for a fall back to explicit UVs.
@@ -38,7 +38,7 @@ struct ImplicitPrimitive {
 
 struct AtlasGroup {
   std::vector<int> materials;
-  std::vector<size_t> members;       // indices into ImplicitPlan::prims
+  std::vector<size_t> members;  // indices into ImplicitPlan::prims
 };
 
 // A primitive cut into parts for atlas pages (prepare_implicit_primitive):
@@ -70,17 +70,18 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
 
 // Drops TEXCOORD_0/TANGENT, writes the geometry (Draco or raw), maps the
 // decoded corners to source UVs and partitions the mesh.
-std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
-                                       ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                       PrimitiveGeometry& geom, ImplicitPlan& plan,
+                                       const EncodeOptions& options, std::vector<int>& replaced,
                                        PrimitiveReport& report);
 
 // Puts `source` back in place of `prim` (whose accessors go to `replaced`)
 // and writes its geometry with explicit UVs, as Draco or raw arrays: what
 // the encoder writes for a primitive that keeps them. `geom` receives the
 // geometry, `bytes` what it costs. "" or a one-line error.
-std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
-                             const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
-                             size_t& bytes);
+std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim,
+                             const tinygltf::Primitive& source, const EncodeOptions& options,
+                             std::vector<int>& replaced, PrimitiveGeometry& geom, size_t& bytes);
 
 // Undoes, latest first, every cut whose parts all kept explicit UVs: the
 // primitive is written whole again (as the encoder writes any primitive

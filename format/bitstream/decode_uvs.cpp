@@ -9,12 +9,18 @@ namespace gltfwarp {
 
 UvStatus from_layout_status(LayoutStatus s) {
   switch (s) {
-    case LayoutStatus::ok: return UvStatus::ok;
-    case LayoutStatus::bad_patch_id: return UvStatus::layout_bad_patch_id;
-    case LayoutStatus::patch_order: return UvStatus::layout_patch_order;
-    case LayoutStatus::unreachable_face: return UvStatus::layout_unreachable_face;
-    case LayoutStatus::bad_mesh: return UvStatus::bad_mesh;
-    case LayoutStatus::bad_seed: return UvStatus::layout_bad_seed;
+    case LayoutStatus::ok:
+      return UvStatus::ok;
+    case LayoutStatus::bad_patch_id:
+      return UvStatus::layout_bad_patch_id;
+    case LayoutStatus::patch_order:
+      return UvStatus::layout_patch_order;
+    case LayoutStatus::unreachable_face:
+      return UvStatus::layout_unreachable_face;
+    case LayoutStatus::bad_mesh:
+      return UvStatus::bad_mesh;
+    case LayoutStatus::bad_seed:
+      return UvStatus::layout_bad_seed;
   }
   return UvStatus::bad_mesh;
 }
@@ -64,8 +70,8 @@ struct UvSink {
 UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map,
                           std::vector<float>& corner_uv) {
   const size_t nf = map.patch_of_face.size();
-  if (corner_xy.size() != nf * 6 || map.placements.size() != map.patch_count ||
-      map.atlas_width == 0 || map.atlas_height == 0)
+  if (corner_xy.size() != nf * 6 || map.placements.size() != map.patch_count || map.atlas_width == 0 ||
+      map.atlas_height == 0)
     return UvStatus::bad_argument;
   for (const uint32_t p : map.patch_of_face)
     if (p >= map.patch_count) return UvStatus::bad_argument;
@@ -91,10 +97,10 @@ UvStatus decode_uvs(const TriMesh& mesh, std::span<const uint8_t> bytes, std::ve
   // replay writes every corner of every face (each face is in one patch).
   const std::vector<PatchTransform> transforms = patch_transforms(map);
   corner_uv.resize(size_t{mesh.face_count()} * 6);
-  UvSink sink{transforms.data(), static_cast<double>(map.atlas_width),
-              static_cast<double>(map.atlas_height), corner_uv.data()};
-  if (const LayoutStatus ls = layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink,
-                                                map.seeds);
+  UvSink sink{transforms.data(), static_cast<double>(map.atlas_width), static_cast<double>(map.atlas_height),
+              corner_uv.data()};
+  if (const LayoutStatus ls =
+          layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink, map.seeds);
       ls != LayoutStatus::ok)
     return from_layout_status(ls);
   return UvStatus::ok;

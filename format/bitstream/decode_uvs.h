@@ -22,8 +22,7 @@ namespace gltfwarp {
 // with the exact operation order of spec/README.md. corner_xy holds 2 doubles
 // per corner (layout_patches' output); map must be valid for it
 // (bad_argument otherwise: sizes, patch ids, placements out of range).
-UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map,
-                          std::vector<float>& corner_uv);
+UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map, std::vector<float>& corner_uv);
 
 // read_uvmap + layout_patches + apply_placements. On success corner_uv has
 // 6 floats per face and, if map_out is given, *map_out the decoded map.

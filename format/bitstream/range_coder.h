@@ -26,10 +26,10 @@
 
 namespace gltfwarp::rc {
 
-constexpr uint32_t kProbOne = 1u << 16;  // probabilities are in 1/65536
-constexpr uint32_t kProbMin = 32;        // P(0) is kept in [kProbMin, kProbOne - kProbMin]
-constexpr uint32_t kTop = 1u << 24;      // renormalise while range < kTop
-constexpr uint32_t kMaxOverread = 4;     // zero bytes a decoder may read past the end
+constexpr uint32_t kProbOne = 1u << 16;     // probabilities are in 1/65536
+constexpr uint32_t kProbMin = 32;           // P(0) is kept in [kProbMin, kProbOne - kProbMin]
+constexpr uint32_t kTop = 1u << 24;         // renormalise while range < kTop
+constexpr uint32_t kMaxOverread = 4;        // zero bytes a decoder may read past the end
 constexpr uint32_t kMaxUniform = 1u << 16;  // largest n of a single uniform symbol
 constexpr uint32_t kEgPrefix = 16;          // contexts of an Exp-Golomb length prefix
 
@@ -45,9 +45,9 @@ enum class RcError : uint8_t { none = 0, overread, bad_symbol };
 class Encoder {
  public:
   void bit(BitModel& m, uint32_t b);
-  void equiprobable(uint32_t b);                  // p0 = 1/2, no adaptation
-  void uniform(uint32_t v, uint32_t n);           // v < n, n <= kMaxUniform; n == 1 codes nothing
-  void uniform32(uint32_t v, uint64_t n);         // v < n, n <= 2^32
+  void equiprobable(uint32_t b);                            // p0 = 1/2, no adaptation
+  void uniform(uint32_t v, uint32_t n);                     // v < n, n <= kMaxUniform; n == 1 codes nothing
+  void uniform32(uint32_t v, uint64_t n);                   // v < n, n <= 2^32
   void tree(BitModel* models, uint32_t nbits, uint32_t v);  // models[1 << nbits], MSB first
   // v >= 0 as an adaptive Exp-Golomb code: prefix[0..kEgPrefix) contexts for the
   // unary length, then the remaining bits equiprobable.

@@ -12,7 +12,7 @@ namespace {
 
 // kSinQuarter[i] = sin(2*pi*i/256), i = 0..64 (a quarter turn).
 constexpr double kSinQuarter[65] = {
-    0x0.0p+0,  // sin(2pi*0/256)
+    0x0.0p+0,              // sin(2pi*0/256)
     0x1.92155f7a3667ep-6,  // sin(2pi*1/256)
     0x1.91f65f10dd814p-5,  // sin(2pi*2/256)
     0x1.2d52092ce19f6p-4,  // sin(2pi*3/256)
@@ -80,7 +80,8 @@ constexpr double kSinQuarter[65] = {
 };
 
 // kScaleFrac[k] = 2^(k/4), k = 0..3.
-constexpr double kScaleFrac[4] = {0x1.0000000000000p+0, 0x1.306fe0a31b715p+0, 0x1.6a09e667f3bcdp+0, 0x1.ae89f995ad3adp+0};
+constexpr double kScaleFrac[4] = {0x1.0000000000000p+0, 0x1.306fe0a31b715p+0, 0x1.6a09e667f3bcdp+0,
+                                  0x1.ae89f995ad3adp+0};
 
 }  // namespace
 
@@ -91,10 +92,22 @@ void rotation_cos_sin(uint32_t code, double& c, double& s) {
   const uint32_t quadrant = code / 64, r = code % 64;
   const double c0 = kSinQuarter[64 - r], s0 = kSinQuarter[r];
   switch (quadrant) {
-    case 0: c = c0; s = s0; break;
-    case 1: c = -s0; s = c0; break;
-    case 2: c = -c0; s = -s0; break;
-    default: c = s0; s = -c0; break;
+    case 0:
+      c = c0;
+      s = s0;
+      break;
+    case 1:
+      c = -s0;
+      s = c0;
+      break;
+    case 2:
+      c = -c0;
+      s = -s0;
+      break;
+    default:
+      c = s0;
+      s = -c0;
+      break;
   }
 }
 
@@ -124,21 +137,36 @@ int32_t scale_step_for(double factor) {
 
 const char* to_string(UvStatus s) {
   switch (s) {
-    case UvStatus::ok: return "ok";
-    case UvStatus::bad_magic: return "bad magic (not a GLTFWARP_implicit_texcoords stream)";
-    case UvStatus::unsupported_version: return "unsupported format version";
-    case UvStatus::truncated: return "truncated stream";
-    case UvStatus::trailing_bytes: return "trailing or unused bytes";
-    case UvStatus::face_count_mismatch: return "face count does not match the mesh";
-    case UvStatus::bad_count: return "count or size out of range";
-    case UvStatus::bad_value: return "field value out of range";
-    case UvStatus::reserved_bits: return "reserved flag bits set";
-    case UvStatus::bad_mesh: return "mesh index out of range";
-    case UvStatus::bad_argument: return "invalid argument";
-    case UvStatus::layout_bad_patch_id: return "layout: bad patch id";
-    case UvStatus::layout_patch_order: return "layout: patches not ordered by lowest face";
-    case UvStatus::layout_unreachable_face: return "layout: face unreachable from its patch seed";
-    case UvStatus::layout_bad_seed: return "layout: seed outside its patch";
+    case UvStatus::ok:
+      return "ok";
+    case UvStatus::bad_magic:
+      return "bad magic (not a GLTFWARP_implicit_texcoords stream)";
+    case UvStatus::unsupported_version:
+      return "unsupported format version";
+    case UvStatus::truncated:
+      return "truncated stream";
+    case UvStatus::trailing_bytes:
+      return "trailing or unused bytes";
+    case UvStatus::face_count_mismatch:
+      return "face count does not match the mesh";
+    case UvStatus::bad_count:
+      return "count or size out of range";
+    case UvStatus::bad_value:
+      return "field value out of range";
+    case UvStatus::reserved_bits:
+      return "reserved flag bits set";
+    case UvStatus::bad_mesh:
+      return "mesh index out of range";
+    case UvStatus::bad_argument:
+      return "invalid argument";
+    case UvStatus::layout_bad_patch_id:
+      return "layout: bad patch id";
+    case UvStatus::layout_patch_order:
+      return "layout: patches not ordered by lowest face";
+    case UvStatus::layout_unreachable_face:
+      return "layout: face unreachable from its patch seed";
+    case UvStatus::layout_bad_seed:
+      return "layout: seed outside its patch";
   }
   return "unknown status";
 }

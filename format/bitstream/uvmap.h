@@ -30,12 +30,12 @@ struct PatchPlacement {
 };
 
 struct UvMap {
-  float tau = 1.3f;              // distortion bound the encoder used (informative)
-  float texel_scale = 1.0f;      // texels per model unit, finite and > 0
-  uint32_t atlas_width = 0;      // page size in texels, 1..kMaxAtlasSize
+  float tau = 1.3f;          // distortion bound the encoder used (informative)
+  float texel_scale = 1.0f;  // texels per model unit, finite and > 0
+  uint32_t atlas_width = 0;  // page size in texels, 1..kMaxAtlasSize
   uint32_t atlas_height = 0;
-  uint32_t page_count = 1;       // 1..kMaxPages
-  uint32_t patch_count = 0;      // 1..face_count (0 iff the mesh has no face)
+  uint32_t page_count = 1;                 // 1..kMaxPages
+  uint32_t patch_count = 0;                // 1..face_count (0 iff the mesh has no face)
   std::vector<uint32_t> patch_of_face;     // one per face, patches ordered by lowest face
   std::vector<PatchPlacement> placements;  // one per patch
   // Format 1.1: the face each patch's replay grows from, one per patch (a
@@ -48,8 +48,8 @@ struct UvMap {
 // ---- limits ----------------------------------------------------------------
 constexpr uint32_t kMaxAtlasSize = 65536;  // atlas_width, atlas_height
 constexpr uint32_t kMaxPages = 65536;
-constexpr int32_t kMinScaleStep = -32;     // patch_scale from 2^-8 ...
-constexpr int32_t kMaxScaleStep = 32;      // ... to 2^8
+constexpr int32_t kMinScaleStep = -32;  // patch_scale from 2^-8 ...
+constexpr int32_t kMaxScaleStep = 32;   // ... to 2^8
 
 // ---- exact transforms (spec/README.md, "Transform tables") -------------------
 // The full turn is split into kRotationSteps equal steps; code r is the
@@ -68,20 +68,20 @@ int32_t scale_step_for(double factor);
 // ---- status codes ------------------------------------------------------------
 enum class UvStatus : uint8_t {
   ok = 0,
-  bad_magic,            // the stream does not start with "GWUV"
-  unsupported_version,  // major != 1 or minor newer than this decoder
-  truncated,            // the stream (or a section) ends before its contents
-  trailing_bytes,       // bytes after the last section, or unused bytes inside a section
-  face_count_mismatch,  // the stream was written for a mesh with another face count
-  bad_count,            // a count or a size out of its range (patches, pages, atlas, section size)
-  bad_value,            // a field out of its range (float not finite, translation, scale, id)
-  reserved_bits,        // a flags bit that version 1.0 reserves is set
-  bad_mesh,             // the mesh has an index >= vertex_count
-  bad_argument,         // caller error: corner_xy size, UvMap fields inconsistent (writer)
-  layout_bad_patch_id,  // layout_patches reported bad_patch_id
-  layout_patch_order,   // layout_patches reported patch_order
+  bad_magic,                // the stream does not start with "GWUV"
+  unsupported_version,      // major != 1 or minor newer than this decoder
+  truncated,                // the stream (or a section) ends before its contents
+  trailing_bytes,           // bytes after the last section, or unused bytes inside a section
+  face_count_mismatch,      // the stream was written for a mesh with another face count
+  bad_count,                // a count or a size out of its range (patches, pages, atlas, section size)
+  bad_value,                // a field out of its range (float not finite, translation, scale, id)
+  reserved_bits,            // a flags bit that version 1.0 reserves is set
+  bad_mesh,                 // the mesh has an index >= vertex_count
+  bad_argument,             // caller error: corner_xy size, UvMap fields inconsistent (writer)
+  layout_bad_patch_id,      // layout_patches reported bad_patch_id
+  layout_patch_order,       // layout_patches reported patch_order
   layout_unreachable_face,  // layout_patches: a face of a patch is never reached by the replay
-  layout_bad_seed,      // layout_patches: a seed outside its patch (the writer checks this too)
+  layout_bad_seed,          // layout_patches: a seed outside its patch (the writer checks this too)
 };
 const char* to_string(UvStatus s);
 

@@ -91,8 +91,7 @@ uint32_t vertex_candidates(const VertexFaceList& vf, const uint32_t* tri, uint32
     const uint32_t* it = std::lower_bound(b, e, f);
     for (uint32_t n = 0; it != b && n < kVertexScan; ++n) {
       const uint32_t p = patch_of_face[*--it];
-      if (std::find(cand, cand + m, p) != cand + m || std::find(vcand, vcand + vm, p) != vcand + vm)
-        continue;
+      if (std::find(cand, cand + m, p) != cand + m || std::find(vcand, vcand + vm, p) != vcand + vm) continue;
       vcand[vm++] = p;
       if (vm == kMaxVcand) return vm;
     }
@@ -102,11 +101,11 @@ uint32_t vertex_candidates(const VertexFaceList& vf, const uint32_t* tri, uint32
 
 // ---- partition model (shared by writer and reader) ------------------------------
 struct PartitionModel {
-  rc::BitModel hit[3][3][3];  // [m-1][seam context][lower neighbours - 1]
-  rc::BitModel pick2[3];     // m == 2: second candidate?
-  rc::BitModel pick3[2][3];  // m == 3: not first? then third?
-  rc::BitModel fresh[2];     // [m > 0]: new patch (1) or an earlier one (0)
-  rc::BitModel vhit;         // the earlier patch is a second-tier candidate
+  rc::BitModel hit[3][3][3];         // [m-1][seam context][lower neighbours - 1]
+  rc::BitModel pick2[3];             // m == 2: second candidate?
+  rc::BitModel pick3[2][3];          // m == 3: not first? then third?
+  rc::BitModel fresh[2];             // [m > 0]: new patch (1) or an earlier one (0)
+  rc::BitModel vhit;                 // the earlier patch is a second-tier candidate
   rc::BitModel vidx[kMaxVcand - 1];  // truncated unary index into the second tier
 };
 
@@ -197,9 +196,9 @@ struct Reader {
   }
 };
 
-#define GW_TRY(expr)                                 \
-  do {                                               \
-    const UvStatus gw_status_ = (expr);              \
+#define GW_TRY(expr)                                   \
+  do {                                                 \
+    const UvStatus gw_status_ = (expr);                \
     if (gw_status_ != UvStatus::ok) return gw_status_; \
   } while (0)
 
@@ -238,8 +237,8 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   GW_TRY(r.varint(info.atlas_height));
   GW_TRY(r.varint(info.page_count));
   GW_TRY(r.varint(info.patch_count));
-  return check_header_fields(info.face_count, info.tau, info.texel_scale, info.atlas_width,
-                             info.atlas_height, info.page_count, info.patch_count);
+  return check_header_fields(info.face_count, info.tau, info.texel_scale, info.atlas_width, info.atlas_height,
+                             info.page_count, info.patch_count);
 }
 
 UvStatus read_sections(Reader& r, UvStreamInfo& info, std::span<const uint8_t>& part,
@@ -260,9 +259,12 @@ UvStatus read_sections(Reader& r, UvStreamInfo& info, std::span<const uint8_t>& 
 
 UvStatus rc_status(const rc::Decoder& d) {
   switch (d.error()) {
-    case rc::RcError::none: return d.fully_consumed() ? UvStatus::ok : UvStatus::trailing_bytes;
-    case rc::RcError::overread: return UvStatus::truncated;
-    case rc::RcError::bad_symbol: return UvStatus::bad_value;
+    case rc::RcError::none:
+      return d.fully_consumed() ? UvStatus::ok : UvStatus::trailing_bytes;
+    case rc::RcError::overread:
+      return UvStatus::truncated;
+    case rc::RcError::bad_symbol:
+      return UvStatus::bad_value;
   }
   return UvStatus::bad_value;
 }
@@ -280,8 +282,8 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh) {
   const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
   for (size_t c = 0; c < size_t{nf} * 3; ++c)
     if (mesh.indices[c] >= nv) return UvStatus::bad_mesh;
-  if (check_header_fields(nf, map.tau, map.texel_scale, map.atlas_width, map.atlas_height,
-                          map.page_count, map.patch_count) != UvStatus::ok)
+  if (check_header_fields(nf, map.tau, map.texel_scale, map.atlas_width, map.atlas_height, map.page_count,
+                          map.patch_count) != UvStatus::ok)
     return UvStatus::bad_argument;
   if (map.patch_of_face.size() != nf || map.placements.size() != map.patch_count)
     return UvStatus::bad_argument;
@@ -346,7 +348,8 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
           ++created;
         } else {
           uint32_t vcand[kMaxVcand];
-          const uint32_t vm = vertex_candidates(vf, &mesh.indices[3 * f], f, map.patch_of_face.data(), cand, m, vcand);
+          const uint32_t vm =
+              vertex_candidates(vf, &mesh.indices[3 * f], f, map.patch_of_face.data(), cand, m, vcand);
           uint32_t vi = 0;
           while (vi < vm && vcand[vi] != p) ++vi;
           if (vm > 0) pe.bit(pm.vhit, vi < vm ? 1 : 0);
@@ -489,7 +492,8 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
           p = created++;
         } else {
           uint32_t vcand[kMaxVcand];
-          const uint32_t vm = vertex_candidates(vf, &mesh.indices[3 * f], f, out.patch_of_face.data(), cand, m, vcand);
+          const uint32_t vm =
+              vertex_candidates(vf, &mesh.indices[3 * f], f, out.patch_of_face.data(), cand, m, vcand);
           if (vm > 0 && pd.bit(pm.vhit) == 1) {
             uint32_t vi = 0;
             while (vi + 1 < vm && pd.bit(pm.vidx[vi]) == 1) ++vi;
@@ -529,7 +533,8 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
         if (cd.bit(sm.nonzero)) {
           const bool negative = cd.bit(sm.negative) == 1;
           const uint32_t mag = cd.exp_golomb(sm.magnitude);
-          if (mag >= static_cast<uint32_t>(kMaxScaleStep)) return cd.failed() ? rc_status(cd) : UvStatus::bad_value;
+          if (mag >= static_cast<uint32_t>(kMaxScaleStep))
+            return cd.failed() ? rc_status(cd) : UvStatus::bad_value;
           pl.scale_step = negative ? -static_cast<int32_t>(mag + 1) : static_cast<int32_t>(mag + 1);
         }
       }

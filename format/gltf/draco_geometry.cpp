@@ -14,14 +14,22 @@ namespace {
 
 draco::DataType draco_type(int ct) {
   switch (ct) {
-    case TINYGLTF_COMPONENT_TYPE_BYTE: return draco::DT_INT8;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return draco::DT_UINT8;
-    case TINYGLTF_COMPONENT_TYPE_SHORT: return draco::DT_INT16;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return draco::DT_UINT16;
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return draco::DT_UINT32;
-    case TINYGLTF_COMPONENT_TYPE_INT: return draco::DT_INT32;
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return draco::DT_FLOAT32;
-    default: return draco::DT_INVALID;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return draco::DT_INT8;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return draco::DT_UINT8;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return draco::DT_INT16;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return draco::DT_UINT16;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return draco::DT_UINT32;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      return draco::DT_INT32;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return draco::DT_FLOAT32;
+    default:
+      return draco::DT_INVALID;
   }
 }
 
@@ -64,8 +72,8 @@ bool copy_same_type(const draco::PointAttribute& att, const DracoWanted& w, int 
 
 }  // namespace
 
-DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes, const std::vector<uint32_t>& triangles,
-                          const DracoOptions& o) {
+DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes,
+                          const std::vector<uint32_t>& triangles, const DracoOptions& o) {
   DracoEncoded r;
   if (attributes.empty()) {
     r.error = "no vertex attributes to encode";
@@ -97,7 +105,8 @@ DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes, const 
     const int id = mesh.AddAttribute(ga, true, static_cast<uint32_t>(n));
     draco::PointAttribute* pa = mesh.attribute(id);
     for (size_t i = 0; i < n; ++i)
-      pa->SetAttributeValue(draco::AttributeValueIndex(static_cast<uint32_t>(i)), a.data.data() + i * a.element_size());
+      pa->SetAttributeValue(draco::AttributeValueIndex(static_cast<uint32_t>(i)),
+                            a.data.data() + i * a.element_size());
     r.attribute_ids[a.semantic] = static_cast<int>(pa->unique_id());
   }
 
@@ -166,14 +175,29 @@ DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<D
       uint8_t* out = a.data.data() + p * a.element_size();
       const draco::PointIndex pi(p);
       switch (w.component_type) {
-        case TINYGLTF_COMPONENT_TYPE_FLOAT: convert_into<float>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: convert_into<uint8_t>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_BYTE: convert_into<int8_t>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: convert_into<uint16_t>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_SHORT: convert_into<int16_t>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: convert_into<uint32_t>(att, pi, nc, out); break;
-        case TINYGLTF_COMPONENT_TYPE_INT: convert_into<int32_t>(att, pi, nc, out); break;
-        default: break;
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+          convert_into<float>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          convert_into<uint8_t>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+          convert_into<int8_t>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+          convert_into<uint16_t>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+          convert_into<int16_t>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+          convert_into<uint32_t>(att, pi, nc, out);
+          break;
+        case TINYGLTF_COMPONENT_TYPE_INT:
+          convert_into<int32_t>(att, pi, nc, out);
+          break;
+        default:
+          break;
       }
     }
     r.attributes.push_back(std::move(a));
@@ -181,7 +205,8 @@ DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<D
   return r;
 }
 
-std::vector<uint32_t> weld_vertices(std::vector<VertexAttribute>& attributes, std::vector<uint32_t>& triangles) {
+std::vector<uint32_t> weld_vertices(std::vector<VertexAttribute>& attributes,
+                                    std::vector<uint32_t>& triangles) {
   const size_t n = attributes.empty() ? 0 : attributes[0].count();
   size_t row = 0;
   for (const auto& a : attributes) row += a.element_size();
@@ -195,14 +220,16 @@ std::vector<uint32_t> weld_vertices(std::vector<VertexAttribute>& attributes, st
       std::memcpy(key.data() + off, a.data.data() + v * a.element_size(), a.element_size());
       off += a.element_size();
     }
-    auto [it, inserted] = seen.emplace(std::string(key.begin(), key.end()), static_cast<uint32_t>(origin.size()));
+    auto [it, inserted] =
+        seen.emplace(std::string(key.begin(), key.end()), static_cast<uint32_t>(origin.size()));
     if (inserted) origin.push_back(static_cast<uint32_t>(v));
     remap[v] = it->second;
   }
   for (auto& a : attributes) {
     std::vector<uint8_t> packed(origin.size() * a.element_size());
     for (size_t i = 0; i < origin.size(); ++i)
-      std::memcpy(packed.data() + i * a.element_size(), a.data.data() + origin[i] * a.element_size(), a.element_size());
+      std::memcpy(packed.data() + i * a.element_size(), a.data.data() + origin[i] * a.element_size(),
+                  a.element_size());
     a.data.swap(packed);
   }
   for (auto& t : triangles) t = remap[t];

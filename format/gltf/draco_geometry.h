@@ -26,12 +26,12 @@ struct DracoOptions {
 struct DracoEncoded {
   std::vector<uint8_t> bytes;
   std::map<std::string, int> attribute_ids;  // glTF semantic -> Draco unique id
-  std::string error;                          // empty when ok
+  std::string error;                         // empty when ok
 };
 
 // Encodes the attributes (all of one vertex count) and triangles.
-DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes, const std::vector<uint32_t>& triangles,
-                          const DracoOptions& options);
+DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes,
+                          const std::vector<uint32_t>& triangles, const DracoOptions& options);
 
 struct DracoDecoded {
   std::vector<VertexAttribute> attributes;  // in the order asked for
@@ -55,6 +55,7 @@ DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<D
 // Welds vertices whose every attribute is byte-identical (after dropping
 // UVs, vertices split only by UV seams become one). Rewrites `attributes`
 // and `triangles`; returns for each new vertex one old vertex it came from.
-std::vector<uint32_t> weld_vertices(std::vector<VertexAttribute>& attributes, std::vector<uint32_t>& triangles);
+std::vector<uint32_t> weld_vertices(std::vector<VertexAttribute>& attributes,
+                                    std::vector<uint32_t>& triangles);
 
 }  // namespace gltfwarp

@@ -10,42 +10,63 @@ namespace gltfwarp {
 size_t component_size(int ct) {
   switch (ct) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 int component_count(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    case TINYGLTF_TYPE_MAT2:
+      return 4;
+    case TINYGLTF_TYPE_MAT3:
+      return 9;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
+    default:
+      return 0;
   }
 }
 
 int accessor_type_for(int components) {
   switch (components) {
-    case 1: return TINYGLTF_TYPE_SCALAR;
-    case 2: return TINYGLTF_TYPE_VEC2;
-    case 3: return TINYGLTF_TYPE_VEC3;
-    case 4: return TINYGLTF_TYPE_VEC4;
-    case 9: return TINYGLTF_TYPE_MAT3;
-    case 16: return TINYGLTF_TYPE_MAT4;
-    default: return TINYGLTF_TYPE_SCALAR;
+    case 1:
+      return TINYGLTF_TYPE_SCALAR;
+    case 2:
+      return TINYGLTF_TYPE_VEC2;
+    case 3:
+      return TINYGLTF_TYPE_VEC3;
+    case 4:
+      return TINYGLTF_TYPE_VEC4;
+    case 9:
+      return TINYGLTF_TYPE_MAT3;
+    case 16:
+      return TINYGLTF_TYPE_MAT4;
+    default:
+      return TINYGLTF_TYPE_SCALAR;
   }
 }
 
-size_t VertexAttribute::element_size() const { return component_size(component_type) * static_cast<size_t>(components); }
+size_t VertexAttribute::element_size() const {
+  return component_size(component_type) * static_cast<size_t>(components);
+}
 
 float VertexAttribute::get(size_t e, int i) const {
   const size_t cs = component_size(component_type);
@@ -56,7 +77,8 @@ float VertexAttribute::get(size_t e, int i) const {
       std::memcpy(&v, p, 4);
       return v;
     }
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? p[0] / 255.0f : p[0];
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return normalized ? p[0] / 255.0f : p[0];
     case TINYGLTF_COMPONENT_TYPE_BYTE: {
       const auto v = static_cast<int8_t>(p[0]);
       return normalized ? std::max(v / 127.0f, -1.0f) : v;
@@ -81,7 +103,8 @@ float VertexAttribute::get(size_t e, int i) const {
       std::memcpy(&v, p, 4);
       return static_cast<float>(v);
     }
-    default: return 0.0f;
+    default:
+      return 0.0f;
   }
 }
 
@@ -130,7 +153,8 @@ std::string check_view_range(const tinygltf::Model& model, int view_index, size_
     return "bufferView " + std::to_string(view_index) + " names a missing buffer";
   const auto& buf = model.buffers[view.buffer].data;
   stride = view.byteStride ? view.byteStride : elem;
-  if (stride < elem) return "bufferView " + std::to_string(view_index) + " has a byteStride below the element size";
+  if (stride < elem)
+    return "bufferView " + std::to_string(view_index) + " has a byteStride below the element size";
   if (view.byteOffset > buf.size() || view.byteLength > buf.size() - view.byteOffset)
     return "bufferView " + std::to_string(view_index) + " runs past the end of its buffer";
   if (count == 0) return {};
@@ -188,13 +212,16 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
     ics = component_size(sp.indices.componentType);
     if (!ics || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
         sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_BYTE ||
-        sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT || sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_INT)
+        sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_SHORT ||
+        sp.indices.componentType == TINYGLTF_COMPONENT_TYPE_INT)
       return "sparse " + name + " has a bad index type";
-    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0) return "sparse " + name + " has a negative byteOffset";
-    std::string err = check_view_range(model, sp.indices.bufferView, static_cast<size_t>(sp.indices.byteOffset), n,
-                                       ics, istride);
+    if (sp.indices.byteOffset < 0 || sp.values.byteOffset < 0)
+      return "sparse " + name + " has a negative byteOffset";
+    std::string err = check_view_range(model, sp.indices.bufferView,
+                                       static_cast<size_t>(sp.indices.byteOffset), n, ics, istride);
     if (err.empty())
-      err = check_view_range(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem, vstride);
+      err = check_view_range(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem,
+                             vstride);
     if (!err.empty()) return "sparse " + name + ": " + err;
     // Sparse index and value views are tightly packed (glTF forbids a stride).
     istride = ics;
@@ -202,12 +229,15 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
   }
 
   out.data.assign(acc.count * elem, 0);
-  if (acc.bufferView >= 0) copy_strided(model, acc.bufferView, acc.byteOffset, acc.count, elem, stride, out.data.data());
+  if (acc.bufferView >= 0)
+    copy_strided(model, acc.bufferView, acc.byteOffset, acc.count, elem, stride, out.data.data());
   if (n) {
     const auto& sp = acc.sparse;
     std::vector<uint8_t> idx(n * ics), vals(n * elem);
-    copy_strided(model, sp.indices.bufferView, static_cast<size_t>(sp.indices.byteOffset), n, ics, istride, idx.data());
-    copy_strided(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem, vstride, vals.data());
+    copy_strided(model, sp.indices.bufferView, static_cast<size_t>(sp.indices.byteOffset), n, ics, istride,
+                 idx.data());
+    copy_strided(model, sp.values.bufferView, static_cast<size_t>(sp.values.byteOffset), n, elem, vstride,
+                 vals.data());
     for (size_t i = 0; i < n; ++i) {
       uint32_t k = 0;
       if (ics == 1) k = idx[i];
@@ -248,7 +278,8 @@ std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primiti
       }
       if (cs == 4) std::memcpy(&v, &a.data[i * 4], 4);
       if (v >= vertex_count)
-        return "index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) + " vertices)";
+        return "index " + std::to_string(v) + " is out of range (" + std::to_string(vertex_count) +
+               " vertices)";
       idx[i] = v;
     }
   } else {
@@ -262,8 +293,10 @@ std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primiti
   } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
     for (size_t i = 2; i < idx.size(); ++i) {
       // Every other triangle flips so all keep the strip's winding.
-      if (i % 2 == 0) tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
-      else tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
+      if (i % 2 == 0)
+        tris.insert(tris.end(), {idx[i - 2], idx[i - 1], idx[i]});
+      else
+        tris.insert(tris.end(), {idx[i - 1], idx[i - 2], idx[i]});
     }
   } else if (mode == TINYGLTF_MODE_TRIANGLE_FAN) {
     for (size_t i = 2; i < idx.size(); ++i) tris.insert(tris.end(), {idx[0], idx[i - 1], idx[i]});

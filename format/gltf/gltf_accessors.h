@@ -13,11 +13,11 @@ namespace gltfwarp {
 
 // One vertex attribute, tightly packed in its glTF component type.
 struct VertexAttribute {
-  std::string semantic;        // "POSITION", "NORMAL", "TEXCOORD_1", "JOINTS_0", "_ID", ...
-  int component_type = 0;      // glTF componentType (5120..5126)
-  int components = 0;          // 1..4 for SCALAR..VEC4, 16 for MAT4
+  std::string semantic;    // "POSITION", "NORMAL", "TEXCOORD_1", "JOINTS_0", "_ID", ...
+  int component_type = 0;  // glTF componentType (5120..5126)
+  int components = 0;      // 1..4 for SCALAR..VEC4, 16 for MAT4
   bool normalized = false;
-  std::vector<uint8_t> data;   // count * components * component_size bytes
+  std::vector<uint8_t> data;  // count * components * component_size bytes
 
   size_t element_size() const;
   size_t count() const { return element_size() ? data.size() / element_size() : 0; }
@@ -26,7 +26,8 @@ struct VertexAttribute {
   // Every component as floats, `components` per element.
   std::vector<float> to_floats() const;
   // A FLOAT attribute holding `values` (`components` per element).
-  static VertexAttribute from_floats(const std::string& semantic, int components, const std::vector<float>& values);
+  static VertexAttribute from_floats(const std::string& semantic, int components,
+                                     const std::vector<float>& values);
 };
 
 // Largest element count an accessor may declare (2^28: far beyond any real
@@ -54,8 +55,8 @@ std::string read_accessor(const tinygltf::Model& model, int index, VertexAttribu
 // Reads a primitive's triangle list: indices as given (or 0..n-1 when absent),
 // triangle strips and fans converted to lists. Every index is checked
 // against vertex_count.
-std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                           size_t vertex_count, std::vector<uint32_t>& triangles);
+std::string read_triangles(const tinygltf::Model& model, const tinygltf::Primitive& prim, size_t vertex_count,
+                           std::vector<uint32_t>& triangles);
 
 // Appends raw bytes as a new bufferView of buffer 0 (4-byte aligned); returns its index.
 int add_buffer_view(tinygltf::Model& model, const std::vector<uint8_t>& bytes, int target = 0);

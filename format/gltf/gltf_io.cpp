@@ -7,13 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <limits>
-#include <optional>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <initializer_list>
 #include <iterator>
-#include <functional>
+#include <limits>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -68,7 +68,8 @@ std::string write_atomically(const std::string& path, std::initializer_list<std:
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return "cannot write " + path;
-    for (const std::string_view part : parts) out.write(part.data(), static_cast<std::streamsize>(part.size()));
+    for (const std::string_view part : parts)
+      out.write(part.data(), static_cast<std::streamsize>(part.size()));
     out.flush();
     if (!out) {
       std::error_code ec;
@@ -169,7 +170,8 @@ constexpr const char* kHiddenIndices = "__gltf_warp_indices";
 // back afterwards (restore_draco_indices).
 bool park_draco_indices(std::string& json_text) {
   nlohmann::json doc = nlohmann::json::parse(json_text, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return false;
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array())
+    return false;
   bool changed = false;
   for (auto& mesh : doc["meshes"]) {
     if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
@@ -226,11 +228,14 @@ bool json_too_deep(const char* p, size_t n, size_t limit) {
   for (size_t i = 0; i < n; ++i) {
     const char c = p[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
       continue;
     }
-    if (c == '"') in_string = true;
+    if (c == '"')
+      in_string = true;
     else if (c == '[' || c == '{') {
       if (++depth > limit) return true;
     } else if ((c == ']' || c == '}') && depth > 0) {
@@ -254,8 +259,9 @@ std::string split_glb(const uint8_t* d, size_t n, GlbParts& out) {
   const uint32_t version = load_u32(d + 4);
   if (version != 2) return "GLB version " + std::to_string(version) + " is not 2";
   const uint32_t length = load_u32(d + 8);
-  if (length > n) return "truncated GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
-                         std::to_string(n);
+  if (length > n)
+    return "truncated GLB: the header declares " + std::to_string(length) + " bytes, the file has " +
+           std::to_string(n);
   if (length < 20) return "GLB has no JSON chunk";
   size_t off = 12;
   bool have_json = false, have_bin = false;
@@ -325,7 +331,8 @@ bool is_absolute_path(const std::string& uri) {
   return !uri.empty() && (uri[0] == '/' || uri[0] == '\\' || (uri.size() > 1 && uri[1] == ':'));
 }
 
-std::optional<uint64_t> json_uint(const nlohmann::json& o, const char* key, std::optional<uint64_t> fallback) {
+std::optional<uint64_t> json_uint(const nlohmann::json& o, const char* key,
+                                  std::optional<uint64_t> fallback) {
   if (!o.is_object()) return std::nullopt;
   auto it = o.find(key);
   if (it == o.end()) return fallback;
@@ -342,9 +349,10 @@ std::optional<uint64_t> json_uint(const nlohmann::json& o, const char* key, std:
 // them is undefined behaviour wherever they are read. Extras are user data
 // and are not inspected. Depth is bounded by kMaxJsonDepth.
 std::string find_bad_index(const nlohmann::json& j) {
-  static const std::set<std::string> keys = {"index", "texCoord", "source", "bufferView", "sampler", "buffer",
-                                             "material", "mesh", "skin", "camera", "node", "indices", "input",
-                                             "output", "scene", "count", "byteOffset", "byteLength", "byteStride"};
+  static const std::set<std::string> keys = {"index",  "texCoord",   "source",     "bufferView", "sampler",
+                                             "buffer", "material",   "mesh",       "skin",       "camera",
+                                             "node",   "indices",    "input",      "output",     "scene",
+                                             "count",  "byteOffset", "byteLength", "byteStride"};
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end(); ++it) {
       if (it.key() == "extras") continue;
@@ -402,7 +410,8 @@ std::string prevalidate(const nlohmann::json& doc) {
       const auto& mesh = (*meshes)[mi];
       if (!mesh.is_object()) return "mesh " + std::to_string(mi) + " is not an object";
       auto prims = mesh.find("primitives");
-      if (prims == mesh.end() || !prims->is_array()) return "mesh " + std::to_string(mi) + " has no primitives array";
+      if (prims == mesh.end() || !prims->is_array())
+        return "mesh " + std::to_string(mi) + " has no primitives array";
       for (size_t pi = 0; pi < prims->size(); ++pi) {
         const auto& prim = (*prims)[pi];
         const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi);
@@ -410,7 +419,8 @@ std::string prevalidate(const nlohmann::json& doc) {
         auto attrs = prim.find("attributes");
         if (attrs == prim.end() || !attrs->is_object()) return where + " has no attributes object";
         for (auto it = attrs->begin(); it != attrs->end(); ++it)
-          if (!it->is_number_unsigned()) return where + " attribute " + it.key() + " is not an accessor index";
+          if (!it->is_number_unsigned())
+            return where + " attribute " + it.key() + " is not an accessor index";
         for (const char* key : {"indices", "material", "mode"})
           if (auto k = prim.find(key); k != prim.end() && !k->is_number_unsigned())
             return where + " " + key + " is not a non-negative integer";
@@ -428,7 +438,8 @@ std::string prevalidate(const nlohmann::json& doc) {
             auto da = e->find("attributes");
             if (da == e->end() || !da->is_object()) return what + " has no attributes object";
             for (auto it = da->begin(); it != da->end(); ++it)
-              if (!it->is_number_unsigned() || it->get<uint64_t>() > uint64_t{std::numeric_limits<int>::max()})
+              if (!it->is_number_unsigned() ||
+                  it->get<uint64_t>() > uint64_t{std::numeric_limits<int>::max()})
                 return what + " attribute " + it.key() + " is not a Draco attribute id";
           }
         }
@@ -453,7 +464,8 @@ std::string prevalidate(const nlohmann::json& doc) {
       if (!buf || !off || !len || !buffers || *buf >= buffers->size())
         return what + " names a malformed bufferView";
       const auto blen = json_uint((*buffers)[*buf], "byteLength", std::nullopt);
-      if (!blen || *off > *blen || *len > *blen - *off) return what + " names a bufferView outside its buffer";
+      if (!blen || *off > *blen || *len > *blen - *off)
+        return what + " names a bufferView outside its buffer";
     }
   return {};
 }
@@ -494,12 +506,15 @@ bool fs_read(std::vector<unsigned char>* out, std::string* err, const std::strin
   return true;
 }
 
-bool fs_write_bytes(std::string*, const std::string&, const std::vector<unsigned char>&, void*) { return false; }
+bool fs_write_bytes(std::string*, const std::string&, const std::vector<unsigned char>&, void*) {
+  return false;
+}
 
 // Keeps images as their encoded bytes (see keep_image_bytes) after checking
 // that bytes embedded through a bufferView lie inside the loaded buffer.
 bool keep_image_bytes_checked(tinygltf::Image* image, const int index, std::string* err, std::string* warn,
-                              int req_width, int req_height, const unsigned char* bytes, int size, void* user) {
+                              int req_width, int req_height, const unsigned char* bytes, int size,
+                              void* user) {
   const auto* model = static_cast<const tinygltf::Model*>(user);
   if (size < 0) {
     if (err) *err += "image " + std::to_string(index) + " is too large\n";
@@ -573,10 +588,11 @@ GltfReadResult read_gltf_memory(const uint8_t* data, size_t size, tinygltf::Mode
   std::string err, warn;
   bool ok = false;
   try {
-    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, reinterpret_cast<const unsigned char*>(bytes.data()),
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn,
+                                              reinterpret_cast<const unsigned char*>(bytes.data()),
                                               static_cast<unsigned int>(bytes.size()), options.base_dir)
-                : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()),
-                                             options.base_dir);
+                : loader.LoadASCIIFromString(&model, &err, &warn, bytes.data(),
+                                             static_cast<unsigned int>(bytes.size()), options.base_dir);
   } catch (const std::exception& e) {
     ok = false;
     err = e.what();
@@ -681,7 +697,8 @@ void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced) {
       // Unreferenced and empty: nothing could need it.
       continue;
     }
-    if (!acc_refs[i] && std::find(replaced.begin(), replaced.end(), static_cast<int>(i)) != replaced.end()) continue;
+    if (!acc_refs[i] && std::find(replaced.begin(), replaced.end(), static_cast<int>(i)) != replaced.end())
+      continue;
     acc_map[i] = static_cast<int>(kept_acc.size());
     kept_acc.push_back(std::move(model.accessors[i]));
   }
@@ -823,8 +840,10 @@ std::string write_gltf(tinygltf::Model& model, const std::string& path) {
         nlohmann::json out = nlohmann::json::array();
         for (double d : v) {
           if (!std::isfinite(d)) return nlohmann::json();
-          if (d == std::floor(d) && std::fabs(d) < 9e15) out.push_back(static_cast<int64_t>(d));
-          else out.push_back(d);
+          if (d == std::floor(d) && std::fabs(d) < 9e15)
+            out.push_back(static_cast<int64_t>(d));
+          else
+            out.push_back(d);
         }
         return out;
       };

@@ -20,7 +20,7 @@ struct GltfReadResult {
 
 // Sane limits on what a file may declare; anything past them is refused
 // before it is allocated.
-inline constexpr size_t kMaxJsonDepth = 64;                     // nesting of JSON arrays/objects
+inline constexpr size_t kMaxJsonDepth = 64;                       // nesting of JSON arrays/objects
 inline constexpr size_t kMaxExternalFileBytes = size_t{1} << 31;  // one .bin or image file
 
 struct GltfReadOptions {

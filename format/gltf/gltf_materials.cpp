@@ -81,7 +81,8 @@ std::vector<int> primitive_materials(const tinygltf::Primitive& prim) {
   if (const tinygltf::Value* mappings = variant_mappings(prim))
     for (size_t i = 0; i < mappings->ArrayLen(); ++i) {
       const tinygltf::Value& m = mappings->Get(int(i));
-      if (m.IsObject() && m.Has("material") && m.Get("material").IsNumber()) add(value_index(m.Get("material")));
+      if (m.IsObject() && m.Has("material") && m.Get("material").IsNumber())
+        add(value_index(m.Get("material")));
     }
   return out;
 }
@@ -89,9 +90,11 @@ std::vector<int> primitive_materials(const tinygltf::Primitive& prim) {
 void replace_primitive_material(tinygltf::Primitive& prim, int from, int to) {
   if (prim.material == from) prim.material = to;
   if (!variant_mappings(prim)) return;
-  auto& mappings = prim.extensions[kVariants].Get<tinygltf::Value::Object>()["mappings"].Get<tinygltf::Value::Array>();
+  auto& mappings =
+      prim.extensions[kVariants].Get<tinygltf::Value::Object>()["mappings"].Get<tinygltf::Value::Array>();
   for (tinygltf::Value& m : mappings) {
-    if (!m.IsObject() || !m.Has("material") || !m.Get("material").IsNumber() || value_index(m.Get("material")) != from)
+    if (!m.IsObject() || !m.Has("material") || !m.Get("material").IsNumber() ||
+        value_index(m.Get("material")) != from)
       continue;
     m.Get<tinygltf::Value::Object>()["material"] = tinygltf::Value(to);
   }
@@ -121,9 +124,10 @@ std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int materia
   add_core(out, material, "baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord,
            pbr.baseColorTexture.extensions, ColorSpace::srgb, false);
   add_core(out, material, "metallicRoughnessTexture", pbr.metallicRoughnessTexture.index,
-           pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions, ColorSpace::linear, false);
-  add_core(out, material, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions,
-           ColorSpace::linear, true);
+           pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions, ColorSpace::linear,
+           false);
+  add_core(out, material, "normalTexture", m.normalTexture.index, m.normalTexture.texCoord,
+           m.normalTexture.extensions, ColorSpace::linear, true);
   add_core(out, material, "occlusionTexture", m.occlusionTexture.index, m.occlusionTexture.texCoord,
            m.occlusionTexture.extensions, ColorSpace::linear, false);
   add_core(out, material, "emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
@@ -132,7 +136,8 @@ std::vector<TextureSlot> texture_slots(const tinygltf::Model& model, int materia
     if (!ext.IsObject()) continue;
     for (const auto& key : ext.Keys()) {
       const auto& v = ext.Get(key);
-      if (!ends_with(key, "Texture") || !v.IsObject() || !v.Has("index") || !v.Get("index").IsNumber()) continue;
+      if (!ends_with(key, "Texture") || !v.IsObject() || !v.Has("index") || !v.Get("index").IsNumber())
+        continue;
       TextureSlot s;
       s.material = material;
       s.extension = ext_name;
@@ -179,8 +184,10 @@ void retarget_slot(tinygltf::Model& model, const TextureSlot& slot, int texture)
   if (e != info.end() && e->second.IsObject()) {
     auto eo = e->second.Get<tinygltf::Value::Object>();
     eo.erase(kTransform);
-    if (eo.empty()) info.erase(e);
-    else e->second = tinygltf::Value(eo);
+    if (eo.empty())
+      info.erase(e);
+    else
+      e->second = tinygltf::Value(eo);
   }
   sit->second = tinygltf::Value(info);
   it->second = tinygltf::Value(obj);
@@ -245,7 +252,8 @@ void drop_unreferenced(std::vector<T>& items, const std::vector<int>& candidates
   std::vector<int> map(items.size(), -1);
   std::vector<T> kept;
   for (size_t i = 0; i < items.size(); ++i) {
-    const bool candidate = std::find(candidates.begin(), candidates.end(), static_cast<int>(i)) != candidates.end();
+    const bool candidate =
+        std::find(candidates.begin(), candidates.end(), static_cast<int>(i)) != candidates.end();
     if (candidate && count[i] == 0) continue;
     map[i] = static_cast<int>(kept.size());
     kept.push_back(std::move(items[i]));

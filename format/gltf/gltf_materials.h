@@ -19,7 +19,7 @@ struct TextureSlot {
   std::string extension;  // empty for core slots, else e.g. "KHR_materials_clearcoat"
   std::string key;        // "baseColorTexture", "normalTexture", "clearcoatNormalTexture", ...
   int texture = -1;
-  int tex_coord = 0;      // effective set (KHR_texture_transform's texCoord wins)
+  int tex_coord = 0;  // effective set (KHR_texture_transform's texCoord wins)
   ColorSpace color_space = ColorSpace::linear;
   bool normal_map = false;
   bool has_transform = false;

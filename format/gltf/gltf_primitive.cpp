@@ -31,7 +31,8 @@ namespace {
 
 std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
                                  const tinygltf::Value& ext, PrimitiveGeometry& out) {
-  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Has("attributes") || !ext.Get("attributes").IsObject())
+  if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Has("attributes") ||
+      !ext.Get("attributes").IsObject())
     return std::string(kDracoExtension) + " object is malformed";
   const int view = value_index(ext.Get("bufferView"));
   if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
@@ -94,7 +95,8 @@ void fill_min_max(tinygltf::Accessor& acc, const VertexAttribute& a) {
 
 }  // namespace
 
-std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& out) {
+std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                           PrimitiveGeometry& out) {
   out = {};
   auto ext = prim.extensions.find(kDracoExtension);
   if (ext != prim.extensions.end()) return read_draco_primitive(model, prim, ext->second, out);
@@ -105,7 +107,8 @@ std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primiti
     std::string err = read_accessor(model, acc_index, a);
     if (!err.empty()) return "attribute " + semantic + ": " + err;
     a.semantic = semantic;
-    if (!first && a.count() != count) return "attribute " + semantic + " has a different count from the others";
+    if (!first && a.count() != count)
+      return "attribute " + semantic + " has a different count from the others";
     count = a.count();
     first = false;
     out.attributes.push_back(std::move(a));
@@ -142,8 +145,9 @@ std::string non_finite_attribute(const PrimitiveGeometry& geom) {
   return "";
 }
 
-std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
-                                  const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
+std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                  const PrimitiveGeometry& geom, const DracoOptions& options,
+                                  std::vector<int>& replaced, PrimitiveGeometry& decoded,
                                   size_t& draco_bytes) {
   if (std::string err = non_finite_attribute(geom); !err.empty()) return err;
   DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options);
@@ -152,7 +156,8 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
   // only geometry the rest of the encoder may look at.
   std::vector<DracoWanted> wanted;
   for (const auto& a : geom.attributes)
-    wanted.push_back({a.semantic, enc.attribute_ids.at(a.semantic), a.component_type, a.components, a.normalized});
+    wanted.push_back(
+        {a.semantic, enc.attribute_ids.at(a.semantic), a.component_type, a.components, a.normalized});
   DracoDecoded dec = draco_decode(enc.bytes.data(), enc.bytes.size(), wanted);
   if (!dec.error.empty()) return "Draco round trip failed: " + dec.error;
   decoded.attributes = std::move(dec.attributes);
@@ -176,7 +181,7 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
   }
   tinygltf::Accessor ind;
   ind.componentType = decoded.vertex_count() <= 0xFFFF ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
-                                                        : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+                                                       : TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
   ind.type = TINYGLTF_TYPE_SCALAR;
   ind.count = decoded.triangles.size();
   model.accessors.push_back(ind);
@@ -203,7 +208,9 @@ void retire_extension_if_unused(tinygltf::Model& model, const std::string& name)
   for (const auto& mesh : model.meshes)
     for (const auto& prim : mesh.primitives)
       if (prim.extensions.count(name)) return;
-  auto drop = [&](std::vector<std::string>& list) { list.erase(std::remove(list.begin(), list.end(), name), list.end()); };
+  auto drop = [&](std::vector<std::string>& list) {
+    list.erase(std::remove(list.begin(), list.end(), name), list.end());
+  };
   drop(model.extensionsUsed);
   drop(model.extensionsRequired);
 }
@@ -222,7 +229,8 @@ bool core_attribute_type(const std::string& semantic, const tinygltf::Accessor& 
   if (semantic == "POSITION" || semantic == "NORMAL" || semantic == "TANGENT") return f;
   if (is("TEXCOORD_") || is("COLOR_") || is("WEIGHTS_")) return f || unorm8 || unorm16;
   if (is("JOINTS_"))
-    return !acc.normalized && (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
+    return !acc.normalized &&
+           (ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE || ct == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
   return true;  // application-specific attributes (_FOO) are unconstrained
 }
 

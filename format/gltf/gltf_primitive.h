@@ -31,7 +31,8 @@ bool is_triangle_mode(int mode);
 // Reads the primitive's attributes and triangles, decoding Draco if the
 // primitive carries KHR_draco_mesh_compression. Empty string or a one-line
 // error; every accessor and index is checked.
-std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim, PrimitiveGeometry& out);
+std::string read_primitive(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                           PrimitiveGeometry& out);
 
 // Replaces the primitive's attributes and indices by new plain accessors
 // (mode becomes TRIANGLES). Old accessor ids are appended to `replaced`.
@@ -51,8 +52,9 @@ std::string non_finite_attribute(const PrimitiveGeometry& geom);
 // prescribes. `decoded` receives what every decoder will see. Float
 // attributes holding NaN or infinities are refused. `extra_empty`
 // names attributes to declare without data (e.g. TEXCOORD_0 rebuilt by us).
-std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
-                                  const DracoOptions& options, std::vector<int>& replaced, PrimitiveGeometry& decoded,
+std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                  const PrimitiveGeometry& geom, const DracoOptions& options,
+                                  std::vector<int>& replaced, PrimitiveGeometry& decoded,
                                   size_t& draco_bytes);
 
 // Adds extension `name` to extensionsUsed (and extensionsRequired when asked), once.

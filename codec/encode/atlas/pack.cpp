@@ -30,12 +30,12 @@ constexpr double kEps = 1e-3;  // texels: margin against rounding between encode
 
 struct Mask {
   uint32_t code = 0;
-  int bx0 = 0, by0 = 0;  // texel origin of the mask in the rotated, scaled patch frame
-  int cw = 0, ch = 0;    // size in cells
-  std::vector<int> bottom, top;  // per cell column: first occupied row, last + 1 (kNone: empty)
-  std::vector<int> row_start;    // per cell row r: runs[row_start[r] .. row_start[r + 1])
+  int bx0 = 0, by0 = 0;                   // texel origin of the mask in the rotated, scaled patch frame
+  int cw = 0, ch = 0;                     // size in cells
+  std::vector<int> bottom, top;           // per cell column: first occupied row, last + 1 (kNone: empty)
+  std::vector<int> row_start;             // per cell row r: runs[row_start[r] .. row_start[r + 1])
   std::vector<std::pair<int, int>> runs;  // occupied cell columns [first, last + 1) of a row
-  std::vector<int> widest;       // per cell row: its widest run
+  std::vector<int> widest;                // per cell row: its widest run
   uint64_t cells = 0;
 };
 
@@ -52,8 +52,8 @@ struct PatchInfo {
 struct TriRaster {
   // Marks every texel whose square [i, i+1] x [j, j+1] meets the triangle
   // (conservative), grown by kEps.
-  static void conservative(double ax, double ay, double bx, double by, double cx, double cy,
-                           int tw, int th, std::vector<uint8_t>& bits) {
+  static void conservative(double ax, double ay, double bx, double by, double cx, double cy, int tw, int th,
+                           std::vector<uint8_t>& bits) {
     double area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
     if (area < 0) {
       std::swap(bx, cx);
@@ -77,8 +77,7 @@ struct TriRaster {
         bool in = true;
         if (!degenerate) {
           const double x = i + 0.5, y = j + 0.5;
-          for (int e = 0; e < 3 && in; ++e)
-            in = ex[e] * (y - py[e]) - ey[e] * (x - px[e]) + slack[e] >= 0;
+          for (int e = 0; e < 3 && in; ++e) in = ex[e] * (y - py[e]) - ey[e] * (x - px[e]) + slack[e] >= 0;
         }
         if (in) bits[size_t(j) * tw + i] = 1;
       }
@@ -86,9 +85,9 @@ struct TriRaster {
   }
 };
 
-void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code,
-                double scale, int r, int cell, bool true_shape, Mask& m, std::vector<double>& q,
-                std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
+void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code, double scale,
+                int r, int cell, bool true_shape, Mask& m, std::vector<double>& q, std::vector<uint8_t>& bits,
+                std::vector<uint8_t>& tmp) {
   double c, s;
   rot_cs(code, c, s);
   const double sc = scale * c, ss = scale * s;
@@ -114,10 +113,9 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
   bits.assign(size_t(tw) * th, 0);
   for (size_t k = 0; k < faces.size(); ++k)
     TriRaster::conservative(q[6 * k] - m.bx0, q[6 * k + 1] - m.by0, q[6 * k + 2] - m.bx0,
-                            q[6 * k + 3] - m.by0, q[6 * k + 4] - m.bx0, q[6 * k + 5] - m.by0, tw,
-                            th, bits);
+                            q[6 * k + 3] - m.by0, q[6 * k + 4] - m.bx0, q[6 * k + 5] - m.by0, tw, th, bits);
   if (!true_shape) std::fill(bits.begin(), bits.end(), 1);  // the bounding rectangle
-  if (r > 0 && true_shape) {  // Chebyshev dilation by r: rows then columns
+  if (r > 0 && true_shape) {                                // Chebyshev dilation by r: rows then columns
     tmp.assign(bits.size(), 0);
     for (int j = 0; j < th; ++j) {
       const uint8_t* row = &bits[size_t(j) * tw];
@@ -130,8 +128,7 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
     for (int j = 0; j < th; ++j)
       for (int i = 0; i < tw; ++i)
         if (tmp[size_t(j) * tw + i])
-          for (int d = std::max(0, j - r); d <= std::min(th - 1, j + r); ++d)
-            bits[size_t(d) * tw + i] = 1;
+          for (int d = std::max(0, j - r); d <= std::min(th - 1, j + r); ++d) bits[size_t(d) * tw + i] = 1;
   }
   m.cw = (tw + cell - 1) / cell;
   m.ch = (th + cell - 1) / cell;
@@ -151,8 +148,10 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
       ++m.cells;
       if (m.bottom[ci] == kNone) m.bottom[ci] = cj;
       m.top[ci] = cj + 1;
-      if (ci == 0 || !cellrow[ci - 1]) m.runs.push_back({ci, ci + 1});
-      else m.runs.back().second = ci + 1;
+      if (ci == 0 || !cellrow[ci - 1])
+        m.runs.push_back({ci, ci + 1});
+      else
+        m.runs.back().second = ci + 1;
     }
     m.row_start.push_back(int(m.runs.size()));
   }
@@ -166,7 +165,7 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
 struct Bitmap {
   int wc = 0, hc = 0, words = 0;
   std::vector<uint64_t> bits;
-  int used_rows = 0;  // rows below this are all free
+  int used_rows = 0;          // rows below this are all free
   std::vector<int> max_free;  // per row: longest run of free cells
   void reset(int w, int h) {
     wc = w, hc = h, words = (w + 63) / 64, used_rows = 0;
@@ -278,8 +277,7 @@ struct Page {
 // Drops every patch (in order) onto the lowest-waste skyline position of the
 // first page where it fits. Returns false when max_pages would be exceeded.
 bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
-                  int hc_max, uint32_t max_pages, std::vector<Placed>& placed,
-                  std::vector<Page>& pages) {
+                  int hc_max, uint32_t max_pages, std::vector<Placed>& placed, std::vector<Page>& pages) {
   pages.clear();
   placed.assign(patches.size(), Placed{});
   for (uint32_t pi : order) {
@@ -398,9 +396,12 @@ uint32_t round_size(uint64_t v, SizeRounding r) {
 
 const char* to_string(PackStatus s) {
   switch (s) {
-    case PackStatus::ok: return "ok";
-    case PackStatus::bad_input: return "bad input";
-    case PackStatus::too_large: return "atlas too large even after shrinking";
+    case PackStatus::ok:
+      return "ok";
+    case PackStatus::bad_input:
+      return "bad input";
+    case PackStatus::too_large:
+      return "atlas too large even after shrinking";
   }
   return "unknown";
 }
@@ -423,8 +424,7 @@ void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
   }
 }
 
-void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps,
-                   PackReport& report) {
+void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps, PackReport& report) {
   report.covered_texels = report.overlap_texels = report.outside_texels = 0;
   if (maps.empty()) return;
   const uint32_t w = maps[0].atlas_width, h = maps[0].atlas_height;
@@ -490,8 +490,7 @@ void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> 
   report.fill = report.atlas_texels ? double(report.covered_texels) / double(report.atlas_texels) : 0;
 }
 
-PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options,
-                      PackResult& result) {
+PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options, PackResult& result) {
   const auto t0 = std::chrono::steady_clock::now();
   result = PackResult{};
   if (!(options.texel_scale > 0) || options.max_atlas_size < 4) return PackStatus::bad_input;
@@ -501,8 +500,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     const PackPrimitive& pr = prims[i];
     if (!pr.mesh) return PackStatus::bad_input;
     const uint32_t nf = pr.mesh->face_count();
-    if (pr.patch_of_face.size() != nf || pr.corner_xy.size() != size_t(6) * nf)
-      return PackStatus::bad_input;
+    if (pr.patch_of_face.size() != nf || pr.corner_xy.size() != size_t(6) * nf) return PackStatus::bad_input;
     if (!pr.face_density.empty() && pr.face_density.size() != nf) return PackStatus::bad_input;
     base[i] = uint32_t(patches.size());
     for (uint32_t p = 0; p < pr.patch_count; ++p) {
@@ -560,7 +558,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
   }
   if (all_w > 0 && all_d2 > 0) {
-    const double reference = options.density_reference > 0 ? options.density_reference : std::sqrt(all_d2 / all_w);
+    const double reference =
+        options.density_reference > 0 ? options.density_reference : std::sqrt(all_d2 / all_w);
     for (size_t pi = 0; pi < patches.size(); ++pi) {
       if (!(patch_w[pi] > 0)) continue;
       const double ratio = patch_d[pi] / reference;
@@ -602,8 +601,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       // Far too large (a scale floored by auto_texel_scale on a model of
       // 1e30 units): straight to the footprint that fits, not by halves,
       // which 60 retries cannot carry past a factor of 2^-60.
-      scale = double(float(scale * std::max(1e-12, std::min(options.shrink_factor,
-                                                             std::sqrt(0.8 * cap / texel_area)))));
+      scale = double(
+          float(scale * std::max(1e-12, std::min(options.shrink_factor, std::sqrt(0.8 * cap / texel_area)))));
       ++result.report.shrink_retries;
       continue;
     }
@@ -622,9 +621,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     std::vector<uint32_t> order(patches.size());
     std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) {
-      return patches[a].order_key > patches[b].order_key;
-    });
+    std::stable_sort(order.begin(), order.end(),
+                     [&](uint32_t a, uint32_t b) { return patches[a].order_key > patches[b].order_key; });
     const int hc_max = int(max_size) / cell;
     // Candidate page widths around the square that would hold the patches at 80%.
     std::vector<uint32_t> widths;
@@ -673,10 +671,11 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     auto run_trial = [&](Trial& t) {
       const int wc = int(t.w) / cell;
       std::vector<Page> trial_pages;
-      const bool fits = options.method == PackMethod::bitmap
-                            ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages,
-                                          int(options.search_depth), t.placed, trial_pages)
-                            : skyline_pack(patches, *t.order, wc, hc_max, options.max_pages, t.placed, trial_pages);
+      const bool fits =
+          options.method == PackMethod::bitmap
+              ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages, int(options.search_depth),
+                            t.placed, trial_pages)
+              : skyline_pack(patches, *t.order, wc, hc_max, options.max_pages, t.placed, trial_pages);
       if (!fits) return;
       int hc = 0;
       for (const Page& pg : trial_pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
@@ -690,7 +689,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       auto worker = [&] {
         for (size_t i; (i = next.fetch_add(1)) < trials.size();) run_trial(trials[i]);
       };
-      const size_t nthreads = std::min<size_t>(trials.size(), std::max(1u, std::thread::hardware_concurrency()));
+      const size_t nthreads =
+          std::min<size_t>(trials.size(), std::max(1u, std::thread::hardware_concurrency()));
       std::vector<std::thread> pool;
       for (size_t i = 1; i < nthreads; ++i) pool.emplace_back(worker);
       worker();

@@ -53,16 +53,16 @@ enum class PackMethod : uint8_t {
 };
 
 struct PackOptions {
-  double texel_scale = 0;           // texels per model unit; must be > 0 (see auto_texel_scale)
-  uint32_t gutter = 4;              // min empty texels between two patches (half of it at page edges)
-  uint32_t max_atlas_size = 4096;   // max page width and height in texels
-  uint32_t max_pages = 1;           // > 1: spill into more max-size pages before shrinking the scale
+  double texel_scale = 0;          // texels per model unit; must be > 0 (see auto_texel_scale)
+  uint32_t gutter = 4;             // min empty texels between two patches (half of it at page edges)
+  uint32_t max_atlas_size = 4096;  // max page width and height in texels
+  uint32_t max_pages = 1;          // > 1: spill into more max-size pages before shrinking the scale
   SizeRounding rounding = SizeRounding::multiple_of_4;
-  bool rotate_90 = true;            // also try 90, 180, 270 degree turns of each patch
+  bool rotate_90 = true;  // also try 90, 180, 270 degree turns of each patch
   PackMethod method = PackMethod::bitmap;
-  bool per_patch_scale = true;      // use PackPrimitive::face_density when given
-  int32_t min_scale_step = -16;     // per-patch scale range, in format steps of 2^(1/4):
-  int32_t max_scale_step = 12;      // 1/16 .. 8 times texel_scale
+  bool per_patch_scale = true;   // use PackPrimitive::face_density when given
+  int32_t min_scale_step = -16;  // per-patch scale range, in format steps of 2^(1/4):
+  int32_t max_scale_step = 12;   // 1/16 .. 8 times texel_scale
   // How a patch's density comes from its faces' face_density: the area-weighted
   // quantile density_quantile (0.5: the median; 0.9 costs Duck 25% more
   // bytes for no measurable gain), or with density_quantile <= 0 the RMS
@@ -74,32 +74,32 @@ struct PackOptions {
   // redistributed).
   double density_reference = 0;
   uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
-  bool true_shapes = true;          // false: pack each patch's bounding rectangle (for comparison)
-  uint32_t search_depth = 3;        // bitmap: search holes down to this many patch heights
-                                    // above the lowest skyline point (bounds the work)
-  uint32_t cell = 0;                // packing raster cell in texels; 0 = auto (1..4 by atlas size)
-  double shrink_factor = 0.92;      // texel scale factor per retry when a page would be too large
-  uint32_t max_retries = 60;        // give up (status too_large) after this many shrinks
+  bool true_shapes = true;                 // false: pack each patch's bounding rectangle (for comparison)
+  uint32_t search_depth = 3;               // bitmap: search holes down to this many patch heights
+                                           // above the lowest skyline point (bounds the work)
+  uint32_t cell = 0;                       // packing raster cell in texels; 0 = auto (1..4 by atlas size)
+  double shrink_factor = 0.92;             // texel scale factor per retry when a page would be too large
+  uint32_t max_retries = 60;               // give up (status too_large) after this many shrinks
 };
 
 enum class PackStatus : uint8_t {
   ok = 0,
-  bad_input,   // null mesh, size mismatch, patch id out of range, texel_scale <= 0
-  too_large,   // could not fit even after max_retries shrinks
+  bad_input,  // null mesh, size mismatch, patch id out of range, texel_scale <= 0
+  too_large,  // could not fit even after max_retries shrinks
 };
 const char* to_string(PackStatus s);
 
 struct PackReport {
   uint32_t atlas_width = 0, atlas_height = 0, page_count = 0;
-  uint32_t patch_count = 0;         // over all primitives
-  double texel_scale = 0;           // final scale (lower than asked if the atlas had to shrink)
+  uint32_t patch_count = 0;  // over all primitives
+  double texel_scale = 0;    // final scale (lower than asked if the atlas had to shrink)
   uint32_t shrink_retries = 0;
-  uint64_t atlas_texels = 0;        // width * height * pages
-  uint64_t covered_texels = 0;      // texels whose centre lies in a placed triangle
-  double fill = 0;                  // covered_texels / atlas_texels
-  uint64_t overlap_texels = 0;      // texel centres covered by two different patches (must be 0)
-  uint64_t outside_texels = 0;      // texel centres of placed triangles outside their page (must be 0)
-  double seconds = 0;               // wall time of pack_atlas
+  uint64_t atlas_texels = 0;    // width * height * pages
+  uint64_t covered_texels = 0;  // texels whose centre lies in a placed triangle
+  double fill = 0;              // covered_texels / atlas_texels
+  uint64_t overlap_texels = 0;  // texel centres covered by two different patches (must be 0)
+  uint64_t outside_texels = 0;  // texel centres of placed triangles outside their page (must be 0)
+  double seconds = 0;           // wall time of pack_atlas
 };
 
 struct PackResult {
@@ -107,8 +107,7 @@ struct PackResult {
   PackReport report;
 };
 
-PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options,
-                      PackResult& result);
+PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options, PackResult& result);
 
 // texel = s * R(rotation) * p + (x, y) with s = texel_scale * patch_scale(step):
 // per-corner texel-space positions (not divided by the page size) for one
@@ -118,7 +117,6 @@ void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
 
 // Counts, for the report, texel centres covered by triangles of two patches and
 // outside their page, rasterising every triangle of every primitive.
-void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps,
-                   PackReport& report);
+void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps, PackReport& report);
 
 }  // namespace gltfwarp

@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "codec/encode/atlas/texel_density.h"
 #include "codec/core/topology.h"
+#include "codec/encode/atlas/texel_density.h"
 
 namespace gltfwarp {
 namespace {
@@ -13,7 +13,8 @@ double size_of(double t) { return std::isfinite(t) && t > 0 ? t : 0.0; }
 
 // Patches that share a vertex with each patch, sorted, without repeats.
 std::vector<std::vector<uint32_t>> patch_neighbours(const TriMesh& mesh, const VertexFaces& around,
-                                                    std::span<const uint32_t> patch_of_face, uint32_t patch_count) {
+                                                    std::span<const uint32_t> patch_of_face,
+                                                    uint32_t patch_count) {
   std::vector<std::vector<uint32_t>> out(patch_count);
   std::vector<uint32_t> here;  // the patches at one vertex
   for (uint32_t v = 0; v < mesh.vertex_count(); ++v) {
@@ -52,9 +53,9 @@ std::vector<std::vector<size_t>> assign_pages(std::span<const double> texels, do
   return pages;
 }
 
-std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
-                                           uint32_t patch_count, std::span<const double> face_density,
-                                           double factor) {
+std::vector<double> estimated_patch_texels(std::span<const double> corner_xy,
+                                           std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                                           std::span<const double> face_density, double factor) {
   std::vector<double> out(patch_count, 0.0);
   if (face_density.empty()) {  // one density: the faces' own texels
     const auto faces = estimated_face_texels(corner_xy, {}, factor);
@@ -98,8 +99,8 @@ std::vector<uint32_t> parts_of_patches(const TriMesh& mesh, std::span<const uint
   return part;
 }
 
-std::vector<double> estimated_face_texels(std::span<const double> corner_xy, std::span<const double> face_density,
-                                          double factor) {
+std::vector<double> estimated_face_texels(std::span<const double> corner_xy,
+                                          std::span<const double> face_density, double factor) {
   std::vector<double> out(corner_xy.size() / 6, 0.0);
   for (size_t f = 0; f < out.size(); ++f) {
     const double s = face_density.empty() ? factor : factor * face_density[f];
@@ -113,7 +114,8 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
                                           double capacity, std::span<const uint32_t> chart) {
   std::vector<double> total(patch_count, 0.0);
   for (size_t f = 0; f < patch_of_face.size(); ++f) total[patch_of_face[f]] += size_of(face_texels[f]);
-  if (!(capacity > 0) || std::none_of(total.begin(), total.end(), [&](double t) { return t > capacity; })) return {};
+  if (!(capacity > 0) || std::none_of(total.begin(), total.end(), [&](double t) { return t > capacity; }))
+    return {};
   std::vector<uint32_t> out(patch_of_face.size(), 0);
   if (!chart.empty()) std::copy(chart.begin(), chart.end(), out.begin());
   uint32_t next = out.empty() ? 0 : *std::max_element(out.begin(), out.end()) + 1;

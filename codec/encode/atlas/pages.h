@@ -25,7 +25,9 @@ namespace gltfwarp {
 inline constexpr double kExpectedPageFill = 0.55;
 
 // Texels a page of `max_size` squared can be expected to hold.
-inline double page_capacity(uint32_t max_size) { return double(max_size) * double(max_size) * kExpectedPageFill; }
+inline double page_capacity(uint32_t max_size) {
+  return double(max_size) * double(max_size) * kExpectedPageFill;
+}
 
 // Groups items (by their texel counts) into pages of `capacity` texels,
 // first-fit in index order. An item larger than a page gets a page of its
@@ -37,9 +39,9 @@ std::vector<std::vector<size_t>> assign_pages(std::span<const double> texels, do
 // faces' median density (patch_densities, from layout_texel_density's
 // face_density) times `factor`, or, with face_density empty, at `factor`
 // texels per layout unit. Before the packer's rounding to scale steps.
-std::vector<double> estimated_patch_texels(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
-                                           uint32_t patch_count, std::span<const double> face_density,
-                                           double factor);
+std::vector<double> estimated_patch_texels(std::span<const double> corner_xy,
+                                           std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                                           std::span<const double> face_density, double factor);
 
 // split(capacity, count) with the capacity raised by a quarter at a time
 // until it makes at most max_count parts: past the pages allowed, fewer,
@@ -89,7 +91,7 @@ std::vector<uint32_t> split_large_patches(const TriMesh& mesh, std::span<const u
 // Atlas texels of each face at its own density (face_density, from
 // layout_texel_density) times `factor`, or at `factor` texels per layout
 // unit when face_density is empty.
-std::vector<double> estimated_face_texels(std::span<const double> corner_xy, std::span<const double> face_density,
-                                          double factor);
+std::vector<double> estimated_face_texels(std::span<const double> corner_xy,
+                                          std::span<const double> face_density, double factor);
 
 }  // namespace gltfwarp

@@ -86,9 +86,9 @@ std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const 
   return d;
 }
 
-std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
-                                          uint32_t patch_count, std::span<const double> face_density,
-                                          double quantile) {
+std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy,
+                                          std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                                          std::span<const double> face_density, double quantile) {
   std::vector<PatchDensity> out(patch_count);
   std::vector<std::vector<std::pair<double, double>>> faces(patch_count);  // (density, area)
   for (size_t f = 0; f < patch_of_face.size(); ++f) {

@@ -41,18 +41,18 @@ struct TexelDensityOptions {
 };
 
 struct TexelDensityReport {
-  double texel_scale = 0;     // chosen texels per model unit
-  double mean_density = 0;    // area-weighted mean of per-triangle density
-  double p50_density = 0;     // area-weighted median
-  double p90_density = 0;     // area-weighted 90th percentile
+  double texel_scale = 0;   // chosen texels per model unit
+  double mean_density = 0;  // area-weighted mean of per-triangle density
+  double p50_density = 0;   // area-weighted median
+  double p90_density = 0;   // area-weighted 90th percentile
   double max_density = 0;
-  double source_texels = 0;   // sum of triangles' texel-space areas (overlaps count twice)
-  double used_texels = 0;     // distinct source texels whose centre a UV triangle covers
-                              // (wrapped into the image, per image size; summed over primitives
-                              // that sample different image sizes)
-  double surface_area = 0;    // sum of triangles' 3D areas
-  uint32_t triangles = 0;     // triangles with non-zero 3D area
-  uint32_t degenerate_uv = 0; // triangles with zero texel-space area
+  double source_texels = 0;    // sum of triangles' texel-space areas (overlaps count twice)
+  double used_texels = 0;      // distinct source texels whose centre a UV triangle covers
+                               // (wrapped into the image, per image size; summed over primitives
+                               // that sample different image sizes)
+  double surface_area = 0;     // sum of triangles' 3D areas
+  uint32_t triangles = 0;      // triangles with non-zero 3D area
+  uint32_t degenerate_uv = 0;  // triangles with zero texel-space area
 };
 
 // Area of face f in 3D (model units squared).
@@ -92,9 +92,9 @@ struct PatchDensity {
 // Per patch, from each face's layout (corner_xy, 6 per face) and density
 // (layout_texel_density); faces without area or density are skipped.
 // Requires patch_of_face[f] < patch_count.
-std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy, std::span<const uint32_t> patch_of_face,
-                                          uint32_t patch_count, std::span<const double> face_density,
-                                          double quantile);
+std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy,
+                                          std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                                          std::span<const double> face_density, double quantile);
 
 // Global texel scale for a set of primitives that share an atlas.
 TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,

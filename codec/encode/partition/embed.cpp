@@ -30,11 +30,11 @@
 
 #include <algorithm>
 #include <array>
-#include <set>
 #include <cmath>
-#include <numeric>
 #include <limits>
+#include <numeric>
 #include <queue>
+#include <set>
 
 #include "codec/core/distortion.h"
 #include "codec/core/geometry2d.h"
@@ -47,7 +47,6 @@ namespace {
 // Face regrowths every budgeted pass may spend beyond its share per face:
 // small meshes get every trial they can use, large ones stay linear.
 constexpr double kBudgetFloor = 262144.0;
-
 
 // The density rule (EmbedOptions::face_density): ln of each face's source
 // texel density (NaN = unknown) and the largest spread ln(max_density_ratio)
@@ -76,7 +75,8 @@ struct DensityRule {
 
 DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
   DensityRule r;
-  const bool density = o.face_density.size() == nf && o.max_density_ratio > 1 && std::isfinite(o.max_density_ratio);
+  const bool density =
+      o.face_density.size() == nf && o.max_density_ratio > 1 && std::isfinite(o.max_density_ratio);
   const bool charts = o.face_chart.size() == nf && nf > 0;
   if (!density && !charts) return r;
   constexpr double kChartSpacing = DensityRule::kChartSpacing;
@@ -90,8 +90,6 @@ DensityRule make_density_rule(uint32_t nf, const EmbedOptions& o) {
   }
   return r;
 }
-
-
 
 // A uniform hash grid over the 2D triangles of the patch being grown, reset
 // per patch by a generation stamp so nothing is cleared.
@@ -171,9 +169,7 @@ class TriangleGrid {
     uint64_t key;
     uint32_t face, next;
   };
-  static uint64_t pack(int x, int y) {
-    return (uint64_t(uint32_t(x)) << 32) | uint64_t(uint32_t(y));
-  }
+  static uint64_t pack(int x, int y) { return (uint64_t(uint32_t(x)) << 32) | uint64_t(uint32_t(y)); }
   size_t bucket(uint64_t key) const {
     return size_t((key * 0x9E3779B97F4A7C15ull) >> 40) & (head_.size() - 1);
   }
@@ -201,8 +197,7 @@ class TriangleGrid {
 class Grower {
  public:
   const TriMesh& mesh() const { return m_; }
-  Grower(const TriMesh& m, const VertexFaces& vf, const EmbedOptions& o)
-      : m_(m), vf_(vf), opt_(o) {
+  Grower(const TriMesh& m, const VertexFaces& vf, const EmbedOptions& o) : m_(m), vf_(vf), opt_(o) {
     const uint32_t nf = m.face_count(), nv = m.vertex_count();
     face_patch.assign(nf, kNone);
     region.assign(nf, 0);
@@ -223,10 +218,10 @@ class Grower {
     grid_.init(nf, n ? 1.5 * sum / double(n) : 1.0);
   }
 
-  uint32_t fail_face = kNone;        // after grow: the first face it had to leave out
-  std::vector<uint32_t> face_patch;  // kNone = free
-  std::vector<uint32_t> region;      // growth stays within the seed's label
-  std::vector<double> xy;            // encoder positions per corner of assigned faces
+  uint32_t fail_face = kNone;                          // after grow: the first face it had to leave out
+  std::vector<uint32_t> face_patch;                    // kNone = free
+  std::vector<uint32_t> region;                        // growth stays within the seed's label
+  std::vector<double> xy;                              // encoder positions per corner of assigned faces
   Vec2 position(uint32_t v) const { return pos_[v]; }  // of a vertex of the last grown patch
 
   // Grows patch `id` from `seed` (which must be free; it is the patch's lowest
@@ -237,8 +232,8 @@ class Grower {
   // patch (a merge trial), so the first face closed ends the growth; returns
   // false then. plain: the paper's rule, a rejected vertex is discarded from
   // the patch for good and no subset of its faces is tried.
-  bool grow(uint32_t seed, uint32_t id, std::vector<uint32_t>& faces,
-            std::vector<uint32_t>& verts, bool all_or_nothing = false, bool plain = false) {
+  bool grow(uint32_t seed, uint32_t id, std::vector<uint32_t>& faces, std::vector<uint32_t>& verts,
+            bool all_or_nothing = false, bool plain = false) {
     ++gen_;
     grid_.reset();
     fail_face = kNone;
@@ -401,10 +396,9 @@ class Grower {
   uint32_t gen_ = 0, list_stamp_ = 0;
 };
 
-
 // Fill from the patch's placed vertices (the hull only needs each once).
-double fill_from_vertices(const Grower& g, std::span<const uint32_t> faces,
-                          std::span<const uint32_t> verts, std::vector<Vec2>& scratch) {
+double fill_from_vertices(const Grower& g, std::span<const uint32_t> faces, std::span<const uint32_t> verts,
+                          std::vector<Vec2>& scratch) {
   double area = 0;
   for (uint32_t f : faces) {
     const double* c = &g.xy[6 * size_t{f}];
@@ -521,7 +515,8 @@ class SeedPicker {
         if (o == kNone) continue;
         const uint32_t h = o / 3;
         if (member_[h] != stamp_) continue;
-        const double dx = c[3 * h] - c[3 * f], dy = c[3 * h + 1] - c[3 * f + 1], dz = c[3 * h + 2] - c[3 * f + 2];
+        const double dx = c[3 * h] - c[3 * f], dy = c[3 * h + 1] - c[3 * f + 1],
+                     dz = c[3 * h + 2] - c[3 * f + 2];
         const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz);
         if (dist[h] <= nd) continue;
         dist[h] = nd;
@@ -590,9 +585,8 @@ void grow_all(Grower& g, std::vector<std::vector<uint32_t>>& patches, bool plain
 // already bordered by earlier patches come out as half-discs around their
 // seed, which still fill their rectangles (pi/4). A ball that lies flat but
 // curled (around a tube) is shrunk while that raises its fill.
-void grow_balls(Grower& g, const std::vector<uint32_t>& opp, const FaceFrames& fr,
-                const EmbedOptions& opt, const DensityRule& dr,
-                std::vector<std::vector<uint32_t>>& patches) {
+void grow_balls(Grower& g, const std::vector<uint32_t>& opp, const FaceFrames& fr, const EmbedOptions& opt,
+                const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
   const TriMesh& m = g.mesh();
   const uint32_t nf = m.face_count();
   const std::vector<double>&nrm = fr.normal, &cen = fr.centroid, &area = fr.area;
@@ -672,8 +666,10 @@ void grow_balls(Grower& g, const std::vector<uint32_t>& opp, const FaceFrames& f
       }
       size_t cut = k - 1;
       const uint32_t bad = g.fail_face;
-      if (bad != kNone && done[bad] == ball) cut = std::min(cut, size_t(rank[bad]));
-      else cut = std::min(cut, k - k / 4);
+      if (bad != kNone && done[bad] == ball)
+        cut = std::min(cut, size_t(rank[bad]));
+      else
+        cut = std::min(cut, k - k / 4);
       cut = std::min(cut, k - k / 16);
       if (cut <= good) break;
       // Up to the face left out, the growth (without "whole") keeps the
@@ -855,8 +851,8 @@ void merge_patches(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& o
 // (one or three seam edges fewer, and a notch or hole gone) when both
 // patches still regrow whole afterwards. Moves between one pair of patches
 // are tried as a batch, then as halves. Returns the number of faces moved.
-size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& opp, int rounds, double budget_x,
-                        const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
+size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& opp, int rounds,
+                        double budget_x, const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
   const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
   double budget = budget_x * double(nf) + kBudgetFloor;
   struct Group {
@@ -893,14 +889,15 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
         if (o != kNone && g.face_patch[o / 3] != a) nb[n++] = g.face_patch[o / 3];
       }
       uint32_t b = kNone;
-      if (n >= 2 && nb[0] == nb[1]) b = nb[0];
-      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2])) b = nb[2];
+      if (n >= 2 && nb[0] == nb[1])
+        b = nb[0];
+      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2]))
+        b = nb[2];
       if (b != kNone) moves.push_back({a, b, f});
     }
     if (moves.empty()) break;
-    std::stable_sort(moves.begin(), moves.end(), [](const Move& l, const Move& r) {
-      return l.a != r.a ? l.a < r.a : l.b < r.b;
-    });
+    std::stable_sort(moves.begin(), moves.end(),
+                     [](const Move& l, const Move& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
     groups.clear();
     for (size_t i = 0; i < moves.size();) {
       size_t j = i;
@@ -909,9 +906,8 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
       i = j;
     }
     // Most faces to move first: the budget goes where the seams shrink most.
-    std::stable_sort(groups.begin(), groups.end(), [](const Group& l, const Group& r) {
-      return l.end - l.begin > r.end - r.begin;
-    });
+    std::stable_sort(groups.begin(), groups.end(),
+                     [](const Group& l, const Group& r) { return l.end - l.begin > r.end - r.begin; });
     size_t moved = 0;
     for (const Group& gr : groups) {
       const size_t i = gr.begin, j = gr.end;
@@ -987,8 +983,10 @@ void absorb_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& op
         }
         const uint32_t q = g.face_patch[o / 3];
         if (q == p) continue;
-        if (b == kNone) b = q;
-        else if (b != q) hole = false;
+        if (b == kNone)
+          b = q;
+        else if (b != q)
+          hole = false;
       }
     if (!hole || b == kNone) continue;
     std::vector<uint32_t>& B = patches[b];
@@ -1112,6 +1110,5 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
     out.report = measure_embedding(mesh, out.patch_of_face, out.patch_count, out.corner_xy, opt.tau);
   return out;
 }
-
 
 }  // namespace gltfwarp

@@ -20,22 +20,22 @@ enum class PartitionMode : uint8_t {
 };
 
 struct EmbedOptions {
-  double tau = 1.3;                     // max distortion per triangle (paper's measure)
+  double tau = 1.3;  // max distortion per triangle (paper's measure)
   PartitionMode mode = PartitionMode::compact;
-  int place_attempts = 3;               // retries of a candidate after dropping its failing faces
-  double normal_weight = 2.0;           // compact: ball cost factor (1 + w (1 - n.n_seed)) per unit length
-  double ball_min_fill = 0.75;          // compact: shrink a ball (up to ball_shrinks times, by 1/4) while
-  int ball_shrinks = 2;                 //   its area / min-rect area is below this
-  bool merge = true;                    // compact: merge adjacent patches while the union still replays within tau
-  double merge_budget = 3.0;            // compact: merge trials may regrow this many x face count faces
-                                        //   (plus a fixed 256k, so small meshes get every trial)
-  int merge_rounds = 8;                 // compact: passes over adjacent patch pairs
-  double merge_min_fill = 0.55;         // compact: a merge must keep area/min-rect >= this ...
-  double merge_max_cone_deg = 160.0;    // compact: skip merge trials whose normals spread wider
-  uint32_t merge_small_faces = 12;      // ... unless the smaller part has at most this many faces
-  int straighten_rounds = 16;           // compact: passes moving notch and hole faces across seams
-  double straighten_budget = 1.0;       // compact: their regrowth budget, x face count (plus 256k)
-  double remerge_budget = 1.0;          // compact: the merge pass after straightening, x face count
+  int place_attempts = 3;        // retries of a candidate after dropping its failing faces
+  double normal_weight = 2.0;    // compact: ball cost factor (1 + w (1 - n.n_seed)) per unit length
+  double ball_min_fill = 0.75;   // compact: shrink a ball (up to ball_shrinks times, by 1/4) while
+  int ball_shrinks = 2;          //   its area / min-rect area is below this
+  bool merge = true;             // compact: merge adjacent patches while the union still replays within tau
+  double merge_budget = 3.0;     // compact: merge trials may regrow this many x face count faces
+                                 //   (plus a fixed 256k, so small meshes get every trial)
+  int merge_rounds = 8;          // compact: passes over adjacent patch pairs
+  double merge_min_fill = 0.55;  // compact: a merge must keep area/min-rect >= this ...
+  double merge_max_cone_deg = 160.0;  // compact: skip merge trials whose normals spread wider
+  uint32_t merge_small_faces = 12;    // ... unless the smaller part has at most this many faces
+  int straighten_rounds = 16;         // compact: passes moving notch and hole faces across seams
+  double straighten_budget = 1.0;     // compact: their regrowth budget, x face count (plus 256k)
+  double remerge_budget = 1.0;        // compact: the merge pass after straightening, x face count
   // Compact: source texel density per face (texels per model unit, from
   // triangle_texel_density; 0 or not finite = unknown). When given, no region
   // and no merge puts two faces of known density whose densities differ by
@@ -63,7 +63,6 @@ struct EmbedOptions {
   std::span<const uint32_t> face_chart;
 };
 
-
 struct Embedding {
   LayoutStatus status = LayoutStatus::ok;
   std::vector<uint32_t> patch_of_face;  // patches numbered by lowest face
@@ -71,8 +70,8 @@ struct Embedding {
   // The face each patch grows from (format 1.1); empty when every patch
   // grows from its lowest face (greedy mode, and compact when that holds).
   std::vector<uint32_t> seeds;
-  std::vector<double> corner_xy;        // from layout_patches (what the decoder computes)
-  std::vector<double> encoder_xy;       // what the encoder's growth computed (test: == corner_xy)
+  std::vector<double> corner_xy;   // from layout_patches (what the decoder computes)
+  std::vector<double> encoder_xy;  // what the encoder's growth computed (test: == corner_xy)
   EmbedReport report;
 };
 

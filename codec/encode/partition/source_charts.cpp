@@ -6,7 +6,8 @@
 
 namespace gltfwarp {
 
-std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv, const SeamTest& seamless) {
+std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv,
+                                    const SeamTest& seamless) {
   const uint32_t nf = mesh.face_count();
   if (source_uv.size() != size_t{nf} * 6) return std::vector<uint32_t>(nf, 0);
   const VertexFaces vf = build_vertex_faces(mesh);
@@ -28,7 +29,8 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
     if (o == kNone || o < c) continue;
     const uint32_t f = uint32_t(c / 3), g = o / 3;
     const uint32_t k = uint32_t(c % 3);
-    const uint32_t va = mesh.indices[3 * size_t{f} + (k + 1) % 3], vb = mesh.indices[3 * size_t{f} + (k + 2) % 3];
+    const uint32_t va = mesh.indices[3 * size_t{f} + (k + 1) % 3],
+                   vb = mesh.indices[3 * size_t{f} + (k + 2) % 3];
     const Uv fa = uv_at(f, va), fb = uv_at(f, vb), ga = uv_at(g, va), gb = uv_at(g, vb);
     if ((fa == ga && fb == gb) || (seamless && seamless(fa, fb, ga, gb))) {
       const uint32_t rf = find(f), rg = find(g);

@@ -12,15 +12,16 @@ namespace {
 // whether any kept texel lies below each texel.
 struct Level {
   int w = 0, h = 0;
-  std::vector<float> value;     // w * h * channels
-  std::vector<uint8_t> known;   // w * h
+  std::vector<float> value;    // w * h * channels
+  std::vector<uint8_t> known;  // w * h
 };
 
 }  // namespace
 
 void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool deep,
                     std::span<const uint8_t> empty) {
-  if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height) return;
+  if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height)
+    return;
   const int nch = channels;
   auto texel = [&](int x, int y, int c) -> float {
     const size_t i = (size_t(y) * width + x) * nch + c;
@@ -68,7 +69,8 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
     const float ax = float(sx - x0), ay = float(sy - y0);
     for (int c = 0; c < nch; ++c) {
       auto at = [&](int x, int y) { return up.value[(size_t(y) * up.w + x) * nch + c]; };
-      out[c] = (at(x0, y0) * (1 - ax) + at(x1, y0) * ax) * (1 - ay) + (at(x0, y1) * (1 - ax) + at(x1, y1) * ax) * ay;
+      out[c] = (at(x0, y0) * (1 - ax) + at(x1, y0) * ax) * (1 - ay) +
+               (at(x0, y1) * (1 - ax) + at(x1, y1) * ax) * ay;
     }
   };
   if (!levels.back().known[0])  // nothing kept at all
@@ -95,8 +97,10 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
       interpolate(up, (x + 0.5) / 2.0 - 0.5, (y + 0.5) / 2.0 - 0.5, v);
       for (int c = 0; c < nch; ++c) {
         const double q = std::round(std::clamp(double(v[c]), 0.0, top));
-        if (deep) reinterpret_cast<uint16_t*>(pixels)[i * nch + c] = uint16_t(q);
-        else pixels[i * nch + c] = uint8_t(q);
+        if (deep)
+          reinterpret_cast<uint16_t*>(pixels)[i * nch + c] = uint16_t(q);
+        else
+          pixels[i * nch + c] = uint8_t(q);
       }
     }
 }

@@ -17,23 +17,34 @@ using OIIO::TypeDesc;
 
 const char* to_string(ImageCodec c) {
   switch (c) {
-    case ImageCodec::png: return "png";
-    case ImageCodec::jpeg: return "jpeg";
-    case ImageCodec::webp: return "webp";
-    case ImageCodec::ktx2: return "ktx2";
-    case ImageCodec::other: return "other";
-    case ImageCodec::unknown: break;
+    case ImageCodec::png:
+      return "png";
+    case ImageCodec::jpeg:
+      return "jpeg";
+    case ImageCodec::webp:
+      return "webp";
+    case ImageCodec::ktx2:
+      return "ktx2";
+    case ImageCodec::other:
+      return "other";
+    case ImageCodec::unknown:
+      break;
   }
   return "unknown";
 }
 
 const char* mime_type(ImageCodec c) {
   switch (c) {
-    case ImageCodec::png: return "image/png";
-    case ImageCodec::jpeg: return "image/jpeg";
-    case ImageCodec::webp: return "image/webp";
-    case ImageCodec::ktx2: return "image/ktx2";
-    default: return "";
+    case ImageCodec::png:
+      return "image/png";
+    case ImageCodec::jpeg:
+      return "image/jpeg";
+    case ImageCodec::webp:
+      return "image/webp";
+    case ImageCodec::ktx2:
+      return "image/ktx2";
+    default:
+      return "";
   }
 }
 
@@ -50,11 +61,10 @@ ImageCodec sniff_image_codec(std::span<const uint8_t> b) {
 
 int estimate_jpeg_quality(std::span<const uint8_t> b) {
   // DQT stores the table in zigzag order; this is the standard table in zigzag order.
-  static const int std_lum[64] = {
-      16, 11, 12, 14, 12, 10, 16, 14, 13, 14, 18, 17, 16, 19, 24, 40,
-      26, 24, 22, 22, 24, 49, 35, 37, 29, 40, 58, 51, 61, 60, 57, 51,
-      56, 55, 64, 72, 92, 78, 64, 68, 87, 69, 55, 56, 80, 109, 81, 87,
-      95, 98, 103, 104, 103, 62, 77, 113, 121, 112, 100, 120, 92, 101, 103, 99};
+  static const int std_lum[64] = {16, 11, 12,  14,  12,  10, 16, 14,  13,  14,  18,  17,  16, 19,  24,  40,
+                                  26, 24, 22,  22,  24,  49, 35, 37,  29,  40,  58,  51,  61, 60,  57,  51,
+                                  56, 55, 64,  72,  92,  78, 64, 68,  87,  69,  55,  56,  80, 109, 81,  87,
+                                  95, 98, 103, 104, 103, 62, 77, 113, 121, 112, 100, 120, 92, 101, 103, 99};
   size_t i = 2;
   while (i + 4 <= b.size()) {
     if (b[i] != 0xFF) return 0;
@@ -193,7 +203,9 @@ bool image_size(std::span<const uint8_t> bytes, int& width, int& height, std::st
     return true;
   }
   if (bytes.empty()) return error = "empty image data", false;
-  const char* name = codec == ImageCodec::jpeg ? "image.jpg" : codec == ImageCodec::webp ? "image.webp" : "image.png";
+  const char* name = codec == ImageCodec::jpeg   ? "image.jpg"
+                     : codec == ImageCodec::webp ? "image.webp"
+                                                 : "image.png";
   OIIO::Filesystem::IOMemReader reader(bytes.data(), bytes.size());
   ImageSpec config;
   void* proxy = &reader;

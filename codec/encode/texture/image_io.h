@@ -27,7 +27,7 @@ const char* mime_type(ImageCodec c);
 struct DecodedImage {
   OIIO::ImageBuf pixels;  // first subimage, native format (uint8 or uint16 usually)
   ImageCodec codec = ImageCodec::unknown;
-  int jpeg_quality = 0;   // estimated IJG quality (1..100) for JPEG sources, else 0
+  int jpeg_quality = 0;  // estimated IJG quality (1..100) for JPEG sources, else 0
 };
 
 // Decodes PNG, JPEG or anything else OIIO reads from memory. Returns "" on

@@ -61,7 +61,8 @@ bool palette_image(const OIIO::ImageBuf& image) {
 
 }  // namespace
 
-std::vector<PaletteEntry> dominant_colours(const OIIO::ImageBuf& image, double min_share, size_t max_entries) {
+std::vector<PaletteEntry> dominant_colours(const OIIO::ImageBuf& image, double min_share,
+                                           size_t max_entries) {
   if (!palette_image(image) || max_entries == 0) return {};
   const OIIO::ImageSpec& spec = image.spec();
   const int nch = spec.nchannels;
@@ -82,7 +83,9 @@ std::vector<PaletteEntry> dominant_colours(const OIIO::ImageBuf& image, double m
   const size_t keep = std::min(max_entries, by_count.size());
   // Ties broken by colour value, so the palette does not depend on hash order.
   std::partial_sort(by_count.begin(), by_count.begin() + std::ptrdiff_t(keep), by_count.end(),
-                    [](const auto& l, const auto& r) { return l.first != r.first ? l.first > r.first : l.second < r.second; });
+                    [](const auto& l, const auto& r) {
+                      return l.first != r.first ? l.first > r.first : l.second < r.second;
+                    });
   uint64_t covered = 0;
   std::vector<PaletteEntry> palette(keep);
   for (size_t i = 0; i < keep; ++i) {

@@ -13,15 +13,16 @@
 namespace gltfwarp {
 
 struct SeamContinuityOptions {
-  int samples = 5;            // points along the edge, at (i + 0.5) / samples
-  double max_mean = 4.0;      // mean over the points of the largest channel difference (0..255) ...
-  double max_peak = 16.0;     // ... and its largest value, both at most these
+  int samples = 5;         // points along the edge, at (i + 0.5) / samples
+  double max_mean = 4.0;   // mean over the points of the largest channel difference (0..255) ...
+  double max_peak = 16.0;  // ... and its largest value, both at most these
 };
 
 // A SeamTest that samples every texture in `textures` (a material's
 // TEXCOORD_0 slots, as a viewer samples them) on both sides of the edge; the
 // seam is hidden only if it is in all of them. The samplers must outlive
 // the test.
-SeamTest texture_seam_test(std::span<const TextureSampler> textures, const SeamContinuityOptions& options = {});
+SeamTest texture_seam_test(std::span<const TextureSampler> textures,
+                           const SeamContinuityOptions& options = {});
 
 }  // namespace gltfwarp

@@ -45,15 +45,18 @@ void lambert(const VertexAttribute& normal, const VertexAttribute& tangent, cons
   unit(n);
   unit(t);
   const double s = sign < 0 ? -1 : 1;
-  const double b[3] = {s * (n[1] * t[2] - n[2] * t[1]), s * (n[2] * t[0] - n[0] * t[2]), s * (n[0] * t[1] - n[1] * t[0])};
+  const double b[3] = {s * (n[1] * t[2] - n[2] * t[1]), s * (n[2] * t[0] - n[0] * t[2]),
+                       s * (n[0] * t[1] - n[1] * t[0])};
   double m[3];
-  for (int i = 0; i < 3; ++i) m[i] = t[i] * (2.0 * rgb[0] - 1) + b[i] * (2.0 * rgb[1] - 1) + n[i] * (2.0 * rgb[2] - 1);
+  for (int i = 0; i < 3; ++i)
+    m[i] = t[i] * (2.0 * rgb[0] - 1) + b[i] * (2.0 * rgb[1] - 1) + n[i] * (2.0 * rgb[2] - 1);
   unit(m);
   // Lights around the surface's own normal (so either side of a double-sided
   // model is lit alike) in a frame built from the normal and a world axis
   // only: the tangents differ between the files, the lights must not.
   const double axis[3] = {std::abs(n[1]) < 0.9 ? 0.0 : 1.0, std::abs(n[1]) < 0.9 ? 1.0 : 0.0, 0.0};
-  double u[3] = {axis[1] * n[2] - axis[2] * n[1], axis[2] * n[0] - axis[0] * n[2], axis[0] * n[1] - axis[1] * n[0]};
+  double u[3] = {axis[1] * n[2] - axis[2] * n[1], axis[2] * n[0] - axis[0] * n[2],
+                 axis[0] * n[1] - axis[1] * n[0]};
   unit(u);
   const double v[3] = {n[1] * u[2] - n[2] * u[1], n[2] * u[0] - n[0] * u[2], n[0] * u[1] - n[1] * u[0]};
   static const double lights[3][3] = {{0.0, 0.0, 1.0}, {0.6, 0.0, 0.8}, {0.0, -0.6, 0.8}};
@@ -69,10 +72,10 @@ void lambert(const VertexAttribute& normal, const VertexAttribute& tangent, cons
 // source mesh (the encoder cut one into parts, one per atlas page), joined
 // into one geometry so each decoded face finds its own source face.
 struct SourceSide {
-  PrimitiveGeometry geom;               // POSITION, TEXCOORD_0 and, when all have them, NORMAL, TANGENT
-  std::vector<size_t> first_face;       // per candidate, then the total face count
+  PrimitiveGeometry geom;          // POSITION, TEXCOORD_0 and, when all have them, NORMAL, TANGENT
+  std::vector<size_t> first_face;  // per candidate, then the total face count
   std::vector<const TextureSampler*> samplers;  // per candidate
-  double tolerance = 0;                 // position match tolerance
+  double tolerance = 0;                         // position match tolerance
   size_t candidate_of_face(size_t f) const {
     return size_t(std::upper_bound(first_face.begin(), first_face.end(), f) - first_face.begin()) - 1;
   }
@@ -80,8 +83,8 @@ struct SourceSide {
 
 // Joins the candidates (their geometries and samplers); false when none has
 // the attributes a comparison needs.
-bool join_sources(const std::vector<const PrimitiveGeometry*>& geoms, const std::vector<const TextureSampler*>& samplers,
-                  SourceSide& out) {
+bool join_sources(const std::vector<const PrimitiveGeometry*>& geoms,
+                  const std::vector<const TextureSampler*>& samplers, SourceSide& out) {
   static const char* const kSemantics[] = {"POSITION", "TEXCOORD_0", "NORMAL", "TANGENT"};
   static const int kComponents[] = {3, 2, 3, 4};
   std::vector<float> values[4];
@@ -108,7 +111,8 @@ bool join_sources(const std::vector<const PrimitiveGeometry*>& geoms, const std:
   }
   out.first_face.push_back(out.geom.triangles.size() / 3);
   for (int s = 0; s < 4; ++s)
-    if (present[s]) out.geom.attributes.push_back(VertexAttribute::from_floats(kSemantics[s], kComponents[s], values[s]));
+    if (present[s])
+      out.geom.attributes.push_back(VertexAttribute::from_floats(kSemantics[s], kComponents[s], values[s]));
   out.samplers = samplers;
   // Tolerance: a Draco 14-bit step of the model's extent, generously.
   double lo = 1e300, hi = -1e300;
@@ -189,10 +193,12 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
         const TextureSampler& si = *side.samplers[side.candidate_of_face(sc0 / 3)];
         if (lit && si.channels() < 3) continue;
         const int nch = std::min(si.pixels.nchannels(), di.pixels.nchannels());
-        const int channels = lit ? 3 : std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
+        const int channels =
+            lit ? 3 : std::min(nch, 3);  // colour only; alpha is compared by its effect elsewhere
         std::vector<float> a(static_cast<size_t>(std::max(3, si.pixels.nchannels())));
-        const double src_texels = double(si.pixels.spec().width) * si.pixels.spec().height *
-                                  std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
+        const double src_texels =
+            double(si.pixels.spec().width) * si.pixels.spec().height *
+            std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
         double su[3], sv[3], du[3], dv[3];
         for (int c = 0; c < 3; ++c) {
           const uint32_t sv_id = sg.triangles[match.source_corner[3 * f + c]];
@@ -224,7 +230,8 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
             visit(1 - std::sqrt(u), std::sqrt(u) * (1 - v), std::sqrt(u) * v);
           }
         } else {
-          const double area = 0.5 * std::abs((su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]));
+          const double area =
+              0.5 * std::abs((su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]));
           for_each_surface_point(surface_points_per_side(area * src_texels), visit);
         }
       }

@@ -12,13 +12,13 @@
 namespace gltfwarp {
 
 struct SurfaceComparison {
-  double psnr = 0;          // dB over all samples, 8-bit scale (inf when identical)
-  double rmse = 0;          // in 0..255 units
-  double max_abs = 0;       // largest channel difference seen
+  double psnr = 0;     // dB over all samples, 8-bit scale (inf when identical)
+  double rmse = 0;     // in 0..255 units
+  double max_abs = 0;  // largest channel difference seen
   size_t samples = 0;
-  size_t primitives = 0;    // textured primitives compared
+  size_t primitives = 0;  // textured primitives compared
   size_t unmatched_faces = 0;
-  std::string error;        // empty when the comparison ran
+  std::string error;  // empty when the comparison ran
 };
 
 struct SurfaceCompareOptions {

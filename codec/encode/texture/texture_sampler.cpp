@@ -81,8 +81,8 @@ void load_texture_sampler(const OIIO::ImageBuf& raw, bool srgb, int gl_wrap_s, i
   s.ok = spec.width > 0 && spec.height > 0;
 }
 
-std::string load_texture_sampler(std::span<const uint8_t> image_bytes, bool srgb, int gl_wrap_s, int gl_wrap_t,
-                                 const std::array<double, 6>& transform, TextureSampler& out) {
+std::string load_texture_sampler(std::span<const uint8_t> image_bytes, bool srgb, int gl_wrap_s,
+                                 int gl_wrap_t, const std::array<double, 6>& transform, TextureSampler& out) {
   OIIO::ImageBuf raw;
   std::string err;
   if (!decode_image(image_bytes, raw, err)) return err;

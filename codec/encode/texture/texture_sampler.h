@@ -37,8 +37,8 @@ struct TextureSampler {
 
 // From encoded image bytes (PNG, JPEG, ...) or decoded pixels. gl_wrap_* are
 // glTF sampler enums (10497 repeat, 33648 mirrored, 33071 clamp).
-std::string load_texture_sampler(std::span<const uint8_t> image_bytes, bool srgb, int gl_wrap_s, int gl_wrap_t,
-                                 const std::array<double, 6>& transform, TextureSampler& out);
+std::string load_texture_sampler(std::span<const uint8_t> image_bytes, bool srgb, int gl_wrap_s,
+                                 int gl_wrap_t, const std::array<double, 6>& transform, TextureSampler& out);
 // A material slot's texture as a viewer samples it: its image, its
 // sampler's wrap modes, the slot's colour space and transform.
 std::string load_slot_sampler(const tinygltf::Model& model, const TextureSlot& slot, TextureSampler& out);

@@ -41,17 +41,23 @@ float linear_to_srgb(float v) {
 
 WrapMode wrap_from_gltf(int gl_enum) {
   switch (gl_enum) {
-    case 33648: return WrapMode::mirrored_repeat;
-    case 33071: return WrapMode::clamp_to_edge;
-    default: return WrapMode::repeat;
+    case 33648:
+      return WrapMode::mirrored_repeat;
+    case 33071:
+      return WrapMode::clamp_to_edge;
+    default:
+      return WrapMode::repeat;
   }
 }
 
 const char* to_string(WarpStatus s) {
   switch (s) {
-    case WarpStatus::ok: return "ok";
-    case WarpStatus::bad_input: return "bad input";
-    case WarpStatus::texture_error: return "texture error";
+    case WarpStatus::ok:
+      return "ok";
+    case WarpStatus::bad_input:
+      return "bad input";
+    case WarpStatus::texture_error:
+      return "texture error";
   }
   return "unknown";
 }
@@ -61,18 +67,21 @@ namespace {
 // A triangle of the page in atlas texel coordinates, with the affine map to
 // the (transformed) source UV.
 struct Tri {
-  double x[3], y[3];    // atlas texel coordinates of the corners
-  double s[3], t[3];    // source UV of the corners (transform applied)
+  double x[3], y[3];  // atlas texel coordinates of the corners
+  double s[3], t[3];  // source UV of the corners (transform applied)
   float dsdx, dtdx, dsdy, dtdy;
   uint32_t prim, face;
-  bool magnifies;       // one atlas texel spans at most one source texel
+  bool magnifies;  // one atlas texel spans at most one source texel
 };
 
 OIIO::ImageBuf::WrapMode to_imagebuf_wrap(WrapMode w) {
   switch (w) {
-    case WrapMode::clamp_to_edge: return OIIO::ImageBuf::WrapClamp;
-    case WrapMode::mirrored_repeat: return OIIO::ImageBuf::WrapMirror;
-    default: return OIIO::ImageBuf::WrapPeriodic;
+    case WrapMode::clamp_to_edge:
+      return OIIO::ImageBuf::WrapClamp;
+    case WrapMode::mirrored_repeat:
+      return OIIO::ImageBuf::WrapMirror;
+    default:
+      return OIIO::ImageBuf::WrapPeriodic;
   }
 }
 
@@ -82,7 +91,12 @@ OIIO::ImageBuf::WrapMode to_imagebuf_wrap(WrapMode w) {
 class CubicSampler {
  public:
   CubicSampler(const std::vector<float>& px, int w, int h, int nch, WrapMode ws, WrapMode wt)
-      : px_(px), w_(w), h_(h), nch_(nch), ws_(to_imagebuf_wrap(ws)), wt_(to_imagebuf_wrap(wt)),
+      : px_(px),
+        w_(w),
+        h_(h),
+        nch_(nch),
+        ws_(to_imagebuf_wrap(ws)),
+        wt_(to_imagebuf_wrap(wt)),
         kernel_(OIIO::Filter1D::create("catmull-rom", 4.0f), &OIIO::Filter1D::destroy) {}
 
   void sample(float s, float t, float* out) const {
@@ -132,10 +146,16 @@ void closest_barycentric(const Tri& tr, double px, double py, double b[3]) {
   const double abx = tr.x[1] - ax, aby = tr.y[1] - ay, acx = tr.x[2] - ax, acy = tr.y[2] - ay;
   const double apx = px - ax, apy = py - ay;
   const double d1 = abx * apx + aby * apy, d2 = acx * apx + acy * apy;
-  if (d1 <= 0 && d2 <= 0) { b[0] = 1, b[1] = 0, b[2] = 0; return; }
+  if (d1 <= 0 && d2 <= 0) {
+    b[0] = 1, b[1] = 0, b[2] = 0;
+    return;
+  }
   const double bpx = px - tr.x[1], bpy = py - tr.y[1];
   const double d3 = abx * bpx + aby * bpy, d4 = acx * bpx + acy * bpy;
-  if (d3 >= 0 && d4 <= d3) { b[0] = 0, b[1] = 1, b[2] = 0; return; }
+  if (d3 >= 0 && d4 <= d3) {
+    b[0] = 0, b[1] = 1, b[2] = 0;
+    return;
+  }
   const double vc = d1 * d4 - d3 * d2;
   if (vc <= 0 && d1 >= 0 && d3 <= 0) {
     const double v = d1 / (d1 - d3);
@@ -144,7 +164,10 @@ void closest_barycentric(const Tri& tr, double px, double py, double b[3]) {
   }
   const double cpx = px - tr.x[2], cpy = py - tr.y[2];
   const double d5 = abx * cpx + aby * cpy, d6 = acx * cpx + acy * cpy;
-  if (d6 >= 0 && d5 <= d6) { b[0] = 0, b[1] = 0, b[2] = 1; return; }
+  if (d6 >= 0 && d5 <= d6) {
+    b[0] = 0, b[1] = 0, b[2] = 1;
+    return;
+  }
   const double vb = d5 * d2 - d1 * d6;
   if (vb <= 0 && d2 >= 0 && d6 <= 0) {
     const double w = d2 / (d2 - d6);
@@ -176,8 +199,8 @@ Vec3 normalized(Vec3 a) {
 
 // The TBN frame a viewer builds from interpolated per-vertex attributes
 // (three.js / glTF sample viewer): normalize(T), normalize(w * cross(N, T)), normalize(N).
-void frame_at(const WarpPrimitive& p, std::span<const float> tangents, uint32_t face,
-              const double b[3], Vec3& T, Vec3& B, Vec3& N) {
+void frame_at(const WarpPrimitive& p, std::span<const float> tangents, uint32_t face, const double b[3],
+              Vec3& T, Vec3& B, Vec3& N) {
   Vec3 t{0, 0, 0}, n{0, 0, 0};
   double w = 0;
   for (int k = 0; k < 3; ++k) {
@@ -200,17 +223,20 @@ Vec3 solve_frame(Vec3 T, Vec3 B, Vec3 N, Vec3 v) {
 
 OIIO::TextureOpt::Wrap to_oiio(WrapMode w) {
   switch (w) {
-    case WrapMode::mirrored_repeat: return OIIO::TextureOpt::WrapMirror;
-    case WrapMode::clamp_to_edge: return OIIO::TextureOpt::WrapClamp;
-    default: return OIIO::TextureOpt::WrapPeriodic;
+    case WrapMode::mirrored_repeat:
+      return OIIO::TextureOpt::WrapMirror;
+    case WrapMode::clamp_to_edge:
+      return OIIO::TextureOpt::WrapClamp;
+    default:
+      return OIIO::TextureOpt::WrapPeriodic;
   }
 }
 
 std::string unique_temp_path(const std::string& dir) {
   static std::atomic<uint64_t> counter{0};
   std::random_device rd;
-  const std::filesystem::path base = dir.empty() ? std::filesystem::temp_directory_path()
-                                                 : std::filesystem::path(dir);
+  const std::filesystem::path base =
+      dir.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(dir);
   std::ostringstream name;
   name << "gltfwarp-" << ::getpid() << "-" << counter++ << "-" << std::hex << rd() << rd() << ".exr";
   return (base / name.str()).string();
@@ -231,9 +257,9 @@ bool is_color_channel(int c, int nch) { return nch >= 3 ? c < 3 : c < 1; }
 
 }  // namespace
 
-WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> prims,
-                        uint32_t atlas_width, uint32_t atlas_height, const WarpOptions& options,
-                        ImageBuf& out, WarpReport* report_out) {
+WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> prims, uint32_t atlas_width,
+                        uint32_t atlas_height, const WarpOptions& options, ImageBuf& out,
+                        WarpReport* report_out) {
   const auto t0 = std::chrono::steady_clock::now();
   WarpReport report;
   auto fail = [&](WarpStatus s, std::string msg) {
@@ -287,8 +313,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           const float v = rows[i];
           const float k = v * 255.0f;
           const int ki = int(std::lround(k));
-          rows[i] = (!deep && std::abs(k - float(ki)) < 1e-3f && ki >= 0 && ki < 256) ? lut[ki]
-                                                                                      : srgb_to_linear(v);
+          rows[i] =
+              (!deep && std::abs(k - float(ki)) < 1e-3f && ki >= 0 && ki < 256) ? lut[ki] : srgb_to_linear(v);
         }
       }
       const ROI droi(0, sw, y0 - sspec.y, y1 - sspec.y, 0, 1, 0, nch);
@@ -300,14 +326,13 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     config.tile_height = 64;
     config.tile_depth = 1;
     config.attribute("maketx:filtername", "box");
-    config.attribute("maketx:hash", 0);             // no SHA-1 of a throwaway file
+    config.attribute("maketx:hash", 0);  // no SHA-1 of a throwaway file
     config.attribute("maketx:compute_average", 0);
-    config.attribute("compression", "none");        // staged for one read, skip zlib
+    config.attribute("compression", "none");  // staged for one read, skip zlib
     std::ostringstream err;
-    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, stage, temp.path,
-                                          config, &err))
-      return fail(WarpStatus::texture_error, "cannot stage the source texture: " + err.str() +
-                                                 OIIO::geterror());
+    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, stage, temp.path, config, &err))
+      return fail(WarpStatus::texture_error,
+                  "cannot stage the source texture: " + err.str() + OIIO::geterror());
   }
 
   // 2. The page's triangles, bucketed by band.
@@ -393,7 +418,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     opt.swrap = to_oiio(options.wrap_s);
     opt.twrap = to_oiio(options.wrap_t);
     opt.anisotropic = std::max(1, int(options.anisotropy));
-    opt.interpmode = options.bicubic ? OIIO::TextureOpt::InterpSmartBicubic : OIIO::TextureOpt::InterpBilinear;
+    opt.interpmode =
+        options.bicubic ? OIIO::TextureOpt::InterpSmartBicubic : OIIO::TextureOpt::InterpBilinear;
     std::vector<double> my_sum(nch, 0.0);
     uint64_t my_cov = 0, my_gut = 0, my_look = 0;
     std::vector<int32_t> owner;
@@ -519,7 +545,10 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
               dst8[c] = uint8_t(q);
             if (is_cov) my_sum[c] += q;
           }
-          if (is_cov) ++my_cov; else ++my_gut;
+          if (is_cov)
+            ++my_cov;
+          else
+            ++my_gut;
         }
         // Empty texels get written later (mean colour); copy the row now.
         uint8_t* base = static_cast<uint8_t*>(out.localpixels());
@@ -531,8 +560,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     for (int c = 0; c < nch; ++c) sum[c] += my_sum[c];
     covered += my_cov, gutter += my_gut, lookups += my_look;
   };
-  const int nthreads = options.threads > 0 ? options.threads
-                                           : std::max(1, int(std::thread::hardware_concurrency()));
+  const int nthreads =
+      options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
   for (int i = 1; i < std::min(nthreads, bands); ++i) pool.emplace_back(worker);
   worker();
@@ -546,8 +575,10 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   uint8_t fill[8] = {};
   for (int c = 0; c < nch; ++c) {
     const double q = covered ? std::round(sum[c] / double(covered)) : 0.0;
-    if (deep) reinterpret_cast<uint16_t*>(fill)[c] = uint16_t(q);
-    else fill[c] = uint8_t(q);
+    if (deep)
+      reinterpret_cast<uint16_t*>(fill)[c] = uint16_t(q);
+    else
+      fill[c] = uint8_t(q);
   }
   uint64_t n_empty = 0;
   for (size_t i = 0; i < empty.size(); ++i)

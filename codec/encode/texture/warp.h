@@ -36,18 +36,18 @@ enum class SlotEncoding : uint8_t {
 
 // One primitive of the atlas group, as the warp sees it. Corners as in codec/core/mesh.h.
 struct WarpPrimitive {
-  std::span<const float> source_uv;      // 2 per corner: the source TEXCOORD_0
-  std::span<const float> atlas_uv;       // 2 per corner: the new TEXCOORD_0 (decode_uvs)
+  std::span<const float> source_uv;        // 2 per corner: the source TEXCOORD_0
+  std::span<const float> atlas_uv;         // 2 per corner: the new TEXCOORD_0 (decode_uvs)
   std::span<const uint32_t> page_of_face;  // atlas page of each face; empty = page 0
   // SlotEncoding::normal only (see codec/decode/tangents.h for how to compute them):
-  std::span<const float> normals;        // 3 per corner: the shading normal
-  std::span<const float> old_tangents;   // 4 per corner: frame of the source UVs (xyz, w)
-  std::span<const float> new_tangents;   // 4 per corner: frame of the new UVs (xyz, w)
+  std::span<const float> normals;       // 3 per corner: the shading normal
+  std::span<const float> old_tangents;  // 4 per corner: frame of the source UVs (xyz, w)
+  std::span<const float> new_tangents;  // 4 per corner: frame of the new UVs (xyz, w)
 };
 
 // What the texels beyond every patch's gutter hold.
 enum class EmptyFill : uint8_t {
-  mean,       // the mean covered colour: flat, nearly free in PNG
+  mean,  // the mean covered colour: flat, nearly free in PNG
   // A pull-push fill (codec/encode/texture/atlas_fill.h): smooth continuations of the
   // nearby patches. For JPEG: no step at patch outlines to spend
   // coefficients on. Measured on the corpus with its PNGs turned into JPEG
@@ -59,25 +59,26 @@ enum class EmptyFill : uint8_t {
 
 struct WarpOptions {
   SlotEncoding encoding = SlotEncoding::srgb;
-  WrapMode wrap_s = WrapMode::repeat;     // source sampler wrapS
-  WrapMode wrap_t = WrapMode::repeat;     // source sampler wrapT
+  WrapMode wrap_s = WrapMode::repeat;  // source sampler wrapS
+  WrapMode wrap_t = WrapMode::repeat;  // source sampler wrapT
   // KHR_texture_transform of the source slot, baked: the UV the source is
   // sampled at is (m[0]*u + m[1]*v + m[2], m[3]*u + m[4]*v + m[5]).
   float uv_transform[6] = {1, 0, 0, 0, 1, 0};
-  uint32_t page = 0;          // which atlas page to produce
-  uint32_t gutter = 4;        // fill texels up to this many texels from a patch by dilation
+  uint32_t page = 0;                       // which atlas page to produce
+  uint32_t gutter = 4;                     // fill texels up to this many texels from a patch by dilation
   EmptyFill empty_fill = EmptyFill::mean;  // the texels beyond the gutters
-  float anisotropy = 16;      // max anisotropy of the filtered lookup
-  bool bicubic = false;       // bicubic (OIIO: a smoothing B-spline) when magnifying; false: bilinear, what viewers show
+  float anisotropy = 16;                   // max anisotropy of the filtered lookup
+  bool bicubic =
+      false;  // bicubic (OIIO: a smoothing B-spline) when magnifying; false: bilinear, what viewers show
   // Where the atlas does not minify the source (footprint <= 1 source texel),
   // interpolate the source with the Catmull-Rom cubic (OIIO's filter)
   // instead of the texture system's bilinear lookup: an interpolating kernel
   // that keeps edges sharp, so the viewer's own bilinear pass is the only
   // blur. Minified lookups stay with the texture system's MIP filtering.
   bool cubic_magnification = true;
-  int threads = 0;            // worker threads; 0 = hardware concurrency
-  int band_rows = 32;         // rows per work item (memory is O(width * band_rows))
-  std::string temp_dir;       // where the filtered source is staged; empty = system temp
+  int threads = 0;       // worker threads; 0 = hardware concurrency
+  int band_rows = 32;    // rows per work item (memory is O(width * band_rows))
+  std::string temp_dir;  // where the filtered source is staged; empty = system temp
 };
 
 enum class WarpStatus : uint8_t {

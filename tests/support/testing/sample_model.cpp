@@ -4,8 +4,8 @@
 #include <cmath>
 #include <cstring>
 
-#include "codec/encode/texture/image_io.h"
 #include "codec/decode/implicit_uv_primitive.h"
+#include "codec/encode/texture/image_io.h"
 #include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
@@ -68,7 +68,8 @@ std::string make_sample_model(const std::string& name, int faces, int texture_si
     for (int k = 0; k < 3; ++k) p[k] = &m.positions[3 * m.indices[3 * f + k]];
     const float e1[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
     const float e2[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const float n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+                        e1[0] * e2[1] - e1[1] * e2[0]};
     for (int k = 0; k < 3; ++k)
       for (int i = 0; i < 3; ++i) normals[3 * m.indices[3 * f + k] + i] += n[i];
   }
@@ -100,7 +101,8 @@ std::string make_sample_model(const std::string& name, int faces, int texture_si
   model.asset.version = "2.0";
   model.asset.generator = "gltf-warp sample";
   tinygltf::Primitive prim;
-  for (const auto& a : geom.attributes) prim.attributes[a.semantic] = add_accessor(model, a, TINYGLTF_TARGET_ARRAY_BUFFER);
+  for (const auto& a : geom.attributes)
+    prim.attributes[a.semantic] = add_accessor(model, a, TINYGLTF_TARGET_ARRAY_BUFFER);
   prim.indices = add_index_accessor(model, geom.triangles, geom.vertex_count());
   prim.mode = TINYGLTF_MODE_TRIANGLES;
   prim.material = 0;

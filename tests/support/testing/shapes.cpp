@@ -3,8 +3,8 @@
 // Built over a (u, v) grid; the grid parameter is the source UV.
 #include "tests/support/testing/shapes.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <functional>
 
 namespace gltfwarp {
@@ -14,10 +14,10 @@ constexpr double kPi = 3.14159265358979323846;
 
 struct GridSpec {
   int nu = 1, nv = 1;
-  bool wrap_u = false;          // column nu welds to column 0
-  bool wrap_v = false;          // row nv welds to row 0
+  bool wrap_u = false;                    // column nu welds to column 0
+  bool wrap_v = false;                    // row nv welds to row 0
   bool pole_v0 = false, pole_v1 = false;  // rows 0 / nv collapse to one vertex
-  bool alternate = false;       // alternate the quad diagonal
+  bool alternate = false;                 // alternate the quad diagonal
 };
 
 // Vertices at grid nodes (welded as the spec says), two triangles per quad,
@@ -41,7 +41,10 @@ ShapeMesh build_grid(const GridSpec& g, const std::function<void(double, double,
   if (g.pole_v0) pole0 = push(0.0, 0.0);
   for (int j = 0; j < rows; ++j) {
     for (int i = 0; i < cols; ++i) {
-      if (g.pole_v0 && j == 0) { id[size_t(j) * cols + i] = pole0; continue; }
+      if (g.pole_v0 && j == 0) {
+        id[size_t(j) * cols + i] = pole0;
+        continue;
+      }
       if (g.pole_v1 && j == g.nv) {
         if (i == 0) pole1 = push(0.0, 1.0);
         id[size_t(j) * cols + i] = pole1;
@@ -80,7 +83,11 @@ ShapeMesh make_plane(int nx, int ny) {
   GridSpec g;
   g.nu = nx;
   g.nv = ny;
-  return build_grid(g, [](double u, double v, double* p) { p[0] = u; p[1] = v; p[2] = 0; });
+  return build_grid(g, [](double u, double v, double* p) {
+    p[0] = u;
+    p[1] = v;
+    p[2] = 0;
+  });
 }
 
 ShapeMesh make_cylinder_open(int seg, int rings) {

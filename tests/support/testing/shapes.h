@@ -16,13 +16,13 @@ struct ShapeMesh {
   std::vector<float> corner_uv;  // 2 per corner, in [0, 1]
 };
 
-ShapeMesh make_plane(int nx, int ny);                 // unit square, regular grid
-ShapeMesh make_cylinder_open(int seg, int rings);     // tube without caps, welded around
-ShapeMesh make_sphere(int seg, int rings);            // UV sphere, single pole vertices
+ShapeMesh make_plane(int nx, int ny);              // unit square, regular grid
+ShapeMesh make_cylinder_open(int seg, int rings);  // tube without caps, welded around
+ShapeMesh make_sphere(int seg, int rings);         // UV sphere, single pole vertices
 ShapeMesh make_bumpy_sphere(int seg, int rings, double amplitude = 0.15, int lobes = 5);
 ShapeMesh make_torus(int seg, int rings, double major = 1.0, double minor = 0.35);
-ShapeMesh make_twisted_loop(int seg, int rings);      // torus with a twisted elliptic section
-ShapeMesh make_twisted_cone(int seg, int rings);      // graded rings, jittered: non-uniform
+ShapeMesh make_twisted_loop(int seg, int rings);  // torus with a twisted elliptic section
+ShapeMesh make_twisted_cone(int seg, int rings);  // graded rings, jittered: non-uniform
 // A plane plus zero-area faces (collinear and repeated-vertex), a duplicate
 // face, an isolated face, a fin making a non-manifold edge shared by three
 // faces, zero-length edges, and a second component.
