@@ -3,7 +3,6 @@
 import { existsSync, mkdtempSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import puppeteer from 'puppeteer-core';
 
 export function chromiumPath() {
   const candidates = [process.env.CHROMIUM, '/usr/bin/chromium', '/usr/bin/chromium-browser'].filter(Boolean);
@@ -14,6 +13,8 @@ export async function launchBrowser() {
   const executablePath = chromiumPath();
   if (!executablePath) throw new Error('chromium not found (apt install chromium, or set CHROMIUM)');
   const profile = mkdtempSync(join(tmpdir(), 'gltf-warp-chromium-'));
+  // Imported here so that a checkout without node_modules can still list the tests.
+  const { default: puppeteer } = await import('puppeteer-core');
   const browser = await puppeteer.launch({
     executablePath,
     headless: true,

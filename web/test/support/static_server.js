@@ -3,7 +3,7 @@
 // else. Paths are resolved inside their root (no "..").
 import { createServer } from 'node:http';
 import { createReadStream, statSync } from 'node:fs';
-import { extname, join, normalize, sep } from 'node:path';
+import { extname, join, normalize, resolve, sep } from 'node:path';
 
 const TYPES = {
   '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.json': 'application/json',
@@ -19,9 +19,10 @@ export function serveStatic(roots, port = 0) {
     const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
     const prefix = prefixes.find((p) => path.startsWith(p));
     const rel = normalize(path.slice(prefix.length)).replace(/^(\.\.(\/|\\|$))+/, '');
-    let file = join(roots[prefix], rel);
+    const root = resolve(roots[prefix]);
+    let file = resolve(join(root, rel));
     try {
-      if (!file.startsWith(normalize(roots[prefix]) + sep) && file !== normalize(roots[prefix])) throw new Error('outside');
+      if (!file.startsWith(root + sep) && file !== root) throw new Error('outside');
       if (statSync(file).isDirectory()) file = join(file, 'index.html');
       const size = statSync(file).size;
       res.writeHead(200, { 'Content-Type': TYPES[extname(file)] ?? 'application/octet-stream', 'Content-Length': size, 'Cache-Control': 'no-store' });
