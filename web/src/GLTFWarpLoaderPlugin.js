@@ -59,7 +59,7 @@ export class GLTFWarpLoaderPlugin {
     const positions = readFloats(position);
     for (let i = 0; i < positions.length; ++i)
       if (!Number.isFinite(positions[i])) throw new Error(`${EXTENSION_NAME}: POSITION holds a NaN or infinite value`);
-    const indices = geometry.index ? Uint32Array.from(geometry.index.array) : sequence(pointCount);
+    const indices = geometry.index ? new Uint32Array(geometry.index.array) : sequence(pointCount); // a copy: it is transferred
     const normal = geometry.getAttribute('normal');
     const wantTangents = ext.tangents === true && normal !== undefined && normal.itemSize === 3;
     const job = {

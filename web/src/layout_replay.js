@@ -14,6 +14,7 @@
 import { GltfWarpError } from './errors.js';
 
 const RELAX_STEPS = 2;
+const NEXT = [1, 2, 0], PREV = [2, 0, 1]; // (k + 1) % 3, (k + 2) % 3
 
 function length2(pos, u, w) {
   const dx = pos[3 * u] - pos[3 * w];
@@ -153,17 +154,9 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
     }
   }
   cursor.set(offsets.subarray(0, vertexCount));
-  // Moves v's cursor past runs of earlier patches; returns [begin, end) of its run in p.
-  let runBegin = 0;
-  const runOf = (v, p) => {
-    let i = cursor[v];
-    const end = offsets[v + 1];
-    while (i < end && entPatch[i] < p) ++i;
-    cursor[v] = i;
-    runBegin = i;
-    while (i < end && entPatch[i] === p) ++i;
-    return i;
-  };
+  // v's run in patch p is [cursor[v], runEnd(v, p)): the cursor moves past runs
+  // of earlier patches (patches are replayed in ascending order, so each entry
+  // is skipped once overall). Inlined by hand below, as in the C++ run_of.
 
   // placed[v] === p + 1: v is placed in patch p; listed[v] === stamp: already a candidate this round.
   const placed = new Uint32Array(vertexCount), listed = new Uint32Array(vertexCount);
@@ -193,11 +186,14 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       ++stamp;
       listN = 0;
       for (let j = 0; j < freshN; ++j) {
-        const end = runOf(fresh[j], p);
-        for (let i = runBegin; i < end; ++i) {
+        const v = fresh[j], stop = offsets[v + 1];
+        let i = cursor[v];
+        while (i < stop && entPatch[i] < p) ++i;
+        cursor[v] = i;
+        for (; i < stop && entPatch[i] === p; ++i) {
           const t = 3 * entFace[i];
           for (let k = 0; k < 3; ++k) {
-            const q = indices[t + k], a = indices[t + (k + 1) % 3], b = indices[t + (k + 2) % 3];
+            const q = indices[t + k], a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
             if (placed[q] === mark || listed[q] === stamp || q === a || q === b) continue;
             if (placed[a] === mark && placed[b] === mark) {
               listed[q] = stamp;
@@ -214,11 +210,14 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       for (let j = 0; j < listN; ++j) {
         const q = list[j];
         unf.n = 0;
-        const end = runOf(q, p);
-        for (let i = runBegin; i < end; ++i) {
+        const stop = offsets[q + 1];
+        let i = cursor[q];
+        while (i < stop && entPatch[i] < p) ++i;
+        cursor[q] = i;
+        for (; i < stop && entPatch[i] === p; ++i) {
           const t = 3 * entFace[i];
           const k = indices[t] === q ? 0 : indices[t + 1] === q ? 1 : 2;
-          const a = indices[t + (k + 1) % 3], b = indices[t + (k + 2) % 3];
+          const a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
           if (a === q || b === q) continue; // q not exactly once in this face
           if (placed[a] !== mark || placed[b] !== mark) continue;
           unf.push(xyOf[2 * a], xyOf[2 * a + 1], xyOf[2 * b], xyOf[2 * b + 1],
