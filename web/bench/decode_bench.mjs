@@ -1,0 +1,33 @@
+// Benchmark (not a test): in-browser decode of an encoded model, Draco alone
+// against Draco + the GLTFWARP rebuild, in headless chromium. Prints the
+// medians and their ratio (issue 18 aims at <= 1.5 on the 1M-face sample).
+//   node bench/decode_bench.mjs big_enc.glb [runs]
+// (web/README.md says how to make big_enc.glb.)
+import { dirname, basename, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { launchBrowser } from '../test/support/browser.js';
+import { serveStatic } from '../test/support/static_server.js';
+
+const file = process.argv[2];
+if (!file) {
+  console.error('usage: node bench/decode_bench.mjs <encoded.glb> [runs]');
+  process.exit(2);
+}
+const runs = Number(process.argv[3] ?? 5);
+const webDir = fileURLToPath(new URL('..', import.meta.url));
+const server = await serveStatic({ '/': webDir, '/models/': dirname(resolve(file)) });
+const browser = await launchBrowser();
+try {
+  const page = await browser.newPage();
+  await page.goto(`${server.url}/bench/bench.html?runs=${runs}&model=/models/${encodeURIComponent(basename(file))}`);
+  await page.waitForFunction('window.benchResult !== undefined', { timeout: 600000, polling: 500 });
+  const r = await page.evaluate(() => window.benchResult);
+  if (r.error) throw new Error(r.error);
+  console.log(`${basename(file)}: ${r.primitives} implicit primitives, ${r.faces} faces, ${r.vertices} vertices after the split, ${r.patches} patches, median of ${r.runs} runs`);
+  console.log(`  Draco decode alone:        ${r.dracoMs.toFixed(1)} ms`);
+  console.log(`  Draco + UV rebuild:        ${r.dracoPlusUvMs.toFixed(1)} ms (first primitive in its worker: weld ${r.workerTimings.weld.toFixed(1)}, decode+replay ${r.workerTimings.decode.toFixed(1)}, split ${r.workerTimings.split.toFixed(1)} ms)`);
+  console.log(`  ratio:                     ${r.ratio.toFixed(2)} (aim <= 1.5)`);
+} finally {
+  await browser.close();
+  await server.close();
+}

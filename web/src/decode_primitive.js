@@ -1,0 +1,46 @@
+// One primitive's whole rebuild, as the worker runs it: weld (3.3), decode
+// (6), split by coordinate (3.4), and tangents when asked. Plain typed arrays
+// in and out, no three.js, so it runs in a worker, in node, or inline.
+import { decodeUvs } from './decode_uvs.js';
+import { splitByCornerUv } from './split_vertices.js';
+import { vertexTangents } from './tangents.js';
+import { weldByPosition } from './weld.js';
+
+// job: { positions: Float32Array (3 per point), indices: Uint32Array (3 per
+// face, point ids), stream: Uint8Array, normals?: Float32Array (3 per point),
+// tangents: boolean }.
+// Returns { index (corner -> new vertex), origin (new vertex -> point), uv
+// (2 per new vertex), tangent? (4 per new vertex), patchOfVertex, patchCount,
+// timings }.
+export function decodePrimitive(job) {
+  const t0 = performance.now();
+  const mesh = weldByPosition(job.positions, job.indices);
+  const t1 = performance.now();
+  const { uv: cornerUv, header, patchOfFace } = decodeUvs(mesh, job.stream);
+  const t2 = performance.now();
+  const split = splitByCornerUv(job.indices, job.positions.length / 3, cornerUv);
+  const vertexCount = split.origin.length;
+  const patchOfVertex = new Uint32Array(vertexCount);
+  for (let c = 0; c < split.index.length; ++c) patchOfVertex[split.index[c]] = patchOfFace[(c / 3) | 0];
+  let tangent = null;
+  if (job.tangents && job.normals) {
+    const pos = gather(job.positions, split.origin, 3), nrm = gather(job.normals, split.origin, 3);
+    tangent = vertexTangents(pos, nrm, split.uv, split.index);
+  }
+  const t3 = performance.now();
+  return {
+    index: split.index, origin: split.origin, uv: split.uv, tangent, patchOfVertex,
+    patchCount: header.patchCount, atlasWidth: header.atlasWidth, atlasHeight: header.atlasHeight,
+    timings: { weld: t1 - t0, decode: t2 - t1, split: t3 - t2 },
+  };
+}
+
+// Per-new-vertex copy of a per-point attribute with n components.
+export function gather(array, origin, n) {
+  const out = new array.constructor(origin.length * n);
+  for (let i = 0; i < origin.length; ++i) {
+    const s = origin[i] * n, d = i * n;
+    for (let k = 0; k < n; ++k) out[d + k] = array[s + k];
+  }
+  return out;
+}
