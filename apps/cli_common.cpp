@@ -15,6 +15,10 @@ int fail(const std::string& message, int code) {
   return code;
 }
 
+int fail(const Error& error, const std::string& prefix) {
+  return fail(prefix + error.message, error.code == ErrorCode::internal ? 3 : 1);
+}
+
 void progress(const std::string& stage, double fraction) {
   if (!isatty(2)) return;
   std::fprintf(stderr, "\r%-10s %3d%%", stage.c_str(), static_cast<int>(fraction * 100));

@@ -26,9 +26,8 @@ Runner add_decode(CLI::App& app) {
     GltfReadResult rr = read_gltf(a->in, model);
     if (!rr.ok) return fail(rr.error);
     DecodeReport report;
-    std::string err = decode_model(model, a->opt, report);
-    if (!err.empty()) return fail(a->in + ": " + err);
-    err = write_gltf(model, a->out);
+    if (Error e = decode_model(model, a->opt, report); e.failed()) return fail(e, a->in + ": ");
+    const std::string err = write_gltf(model, a->out);
     if (!err.empty()) return fail(err);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!a->quiet) {

@@ -145,10 +145,10 @@ Runner add_encode(CLI::App& app) {
     GltfReadResult rr = read_gltf(a->in, model);
     if (!rr.ok) return fail(rr.error);
     EncodeReport report;
-    std::string err = encode_model(model, opt, report);
+    const Error encoded = encode_model(model, opt, report);
     progress_done();
-    if (!err.empty()) return fail(a->in + ": " + err);
-    err = write_gltf(model, a->out);
+    if (encoded.failed()) return fail(encoded, a->in + ": ");
+    const std::string err = write_gltf(model, a->out);
     if (!err.empty()) return fail(err);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (!a->quiet) print_encode_report(report, a->in, a->out, secs);

@@ -15,6 +15,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "codec/core/error.h"
+
 namespace gltfwarp::cli {
 
 using Runner = std::function<int()>;
@@ -40,6 +42,10 @@ int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** ar
 
 // One line on stderr, "gltf-warp: <message>"; returns the exit code to use.
 int fail(const std::string& message, int code = 1);
+
+// A pipeline's error, its message after `prefix`: exit 1 for bad input,
+// 3 for an internal failure (as for an exception).
+int fail(const Error& error, const std::string& prefix = {});
 
 // Progress on stderr, only when it is a terminal.
 void progress(const std::string& stage, double fraction);

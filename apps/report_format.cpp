@@ -5,6 +5,94 @@
 
 namespace gltfwarp::cli {
 
+namespace {
+
+std::string primitive_name(int mesh, int primitive) {
+  return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
+}
+
+}  // namespace
+
+std::string fallback_text(const Fallback& f) {
+  char line[256];
+  switch (f.reason) {
+    case FallbackReason::none:
+      return "no reason given";
+    case FallbackReason::texcoord_not_vec2:
+      return "TEXCOORD_0 is not a VEC2";
+    case FallbackReason::no_triangles:
+      return "no triangles";
+    case FallbackReason::no_triangles_after_draco:
+      return "no triangles left after Draco";
+    case FallbackReason::embedding_failed:
+      return std::string("embedding failed: ") + to_string(f.layout);
+    case FallbackReason::below_quality_floor:
+      std::snprintf(line, sizeof line,
+                    "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", f.psnr,
+                    f.density_factor, f.capped ? " (held by --max-atlas-size)" : "", f.min_psnr);
+      return line;
+    case FallbackReason::explicit_smaller:
+      std::snprintf(
+          line, sizeof line,
+          "smaller: %zu bytes of geometry and images, against %zu with the implicit map and a %.1f dB "
+          "atlas",
+          f.explicit_bytes, f.implicit_bytes, f.psnr);
+      return line;
+  }
+  return "?";
+}
+
+std::string handling_text(const PrimitiveReport& p) {
+  switch (p.handling) {
+    case Handling::implicit_uv:
+      return p.raw_geometry ? "implicit-uv (raw geometry)" : "implicit-uv";
+    case Handling::draco:
+      return "draco";
+    case Handling::raw:
+      return "raw";
+    case Handling::raw_morph_targets:
+      return "raw: morph targets";
+    case Handling::fallback:
+      return "fallback: explicit UVs kept (" + fallback_text(p.fallback) + ")";
+    case Handling::pass_not_triangles:
+      return "pass: not triangles (mode " + std::to_string(p.mode) + ")";
+    case Handling::pass_no_triangles:
+      return "pass: no triangles";
+    case Handling::pass_unsupported:
+      return "pass: " + p.detail;
+  }
+  return "?";
+}
+
+std::string note_text(const Note& n) {
+  const std::string who = primitive_name(n.mesh, n.primitive);
+  switch (n.kind) {
+    case NoteKind::image_not_decodable:
+      return "image " + std::to_string(n.image) + " kept as is, explicit UVs kept for its users: " + n.detail;
+    case NoteKind::image_ktx2:
+      return "image " + std::to_string(n.image) +
+             " kept as is, explicit UVs kept for its users: KTX2 images cannot be decoded and warped";
+    case NoteKind::texture_in_extension:
+      return who + ": explicit UVs kept, texture " + std::to_string(n.texture) + " has an image in " +
+             n.detail + " that the warp cannot rewrite";
+    case NoteKind::texture_without_image:
+      return who + ": explicit UVs kept, texture " + std::to_string(n.texture) + " has no image";
+    case NoteKind::morph_targets_raw:
+      return who + " kept raw: Draco cannot carry morph targets";
+    case NoteKind::cut_into_parts:
+      return who + " cut into " + std::to_string(n.parts) +
+             " primitives (the others appended to its mesh): its texels would pass one atlas page "
+             "(--max-atlas-size, --max-pages)";
+    case NoteKind::fallback:
+      return who + ": fallback: explicit UVs kept (" + fallback_text(n.fallback) + ")";
+    case NoteKind::no_triangles:
+      return who + " passed through: it has no triangles";
+    case NoteKind::draco_unsupported:
+      return who + " passed through: " + n.detail;
+  }
+  return "?";
+}
+
 void print_encode_report(const EncodeReport& r, const std::string& in, const std::string& out,
                          double seconds) {
   std::error_code ec;
@@ -15,7 +103,7 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
   for (const auto& p : r.primitives) {
     char id[32];
     std::snprintf(id, sizeof id, "%d/%d", p.mesh, p.primitive);
-    std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f %5u\n", id, p.handling.c_str(),
+    std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f %5u\n", id, handling_text(p).c_str(),
                 p.triangles, p.vertices, p.geometry_bytes, p.bitstream_bytes, p.patches, p.max_distortion,
                 p.seam_edges, p.rect_fill, p.holes);
     if (p.greedy.patches > 0)
@@ -45,7 +133,7 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
         "gutters; --texel-density 0.8x, --image-format jpeg or a lower --jpeg-quality trade detail for "
         "bytes)\n",
         larger.c_str());
-  for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+  for (const auto& n : r.notes) std::printf("note: %s\n", note_text(n).c_str());
   std::printf("encoded %s (%llu bytes) -> %s (%llu bytes) in %.2f s\n", in.c_str(),
               static_cast<unsigned long long>(in_size), out.c_str(),
               static_cast<unsigned long long>(out_size), seconds);

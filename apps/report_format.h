@@ -1,4 +1,5 @@
-// Human-readable printing of the encoder's report.
+// The encoder's report as text: the one place its typed state (handling,
+// fallback reasons, notes) becomes words.
 #pragma once
 
 #include <string>
@@ -6,6 +7,10 @@
 #include "codec/encode/encoder.h"
 
 namespace gltfwarp::cli {
+
+std::string fallback_text(const Fallback& fallback);
+std::string handling_text(const PrimitiveReport& primitive);  // e.g. "implicit-uv", "fallback: ..."
+std::string note_text(const Note& note);                      // one line, e.g. "mesh 0 primitive 1 ..."
 
 void print_encode_report(const EncodeReport& report, const std::string& in, const std::string& out,
                          double seconds);

@@ -322,7 +322,7 @@ Timed encode(const tinygltf::Model& src, const EncodeOptions& o) {
   Timed t;
   t.model = src;
   const double t0 = now_s();
-  const std::string e = encode_model(t.model, o, t.report);
+  const std::string e = encode_model(t.model, o, t.report).message;
   t.seconds = now_s() - t0;
   if (!e.empty()) fail("encode_model: " + e);
   return t;
@@ -332,7 +332,7 @@ tinygltf::Model decode(const tinygltf::Model& enc, double* seconds = nullptr) {
   tinygltf::Model m = enc;
   DecodeReport rep;
   const double t0 = now_s();
-  const std::string e = decode_model(m, {}, rep);
+  const std::string e = decode_model(m, {}, rep).message;
   if (seconds) *seconds = now_s() - t0;
   if (!e.empty()) fail("decode_model: " + e);
   return m;
@@ -393,7 +393,7 @@ int main(int argc, char** argv) {
   uint32_t patches = 0;
   double maxd = 0;
   for (const auto& p : ours.report.primitives)
-    if (p.handling.rfind("implicit-uv", 0) == 0) {
+    if (p.handling == Handling::implicit_uv) {
       replaced.push_back({p.mesh, p.primitive});
       bitstream += p.bitstream_bytes;
       patches += p.patches;
@@ -411,7 +411,8 @@ int main(int argc, char** argv) {
   out["primitives_replaced"] = replaced.size();
   size_t quality_fallback = 0;  // textured primitives the quality floor left with explicit UVs
   for (const auto& p : ours.report.primitives)
-    if (p.handling.find("the warped atlas reached") != std::string::npos) ++quality_fallback;
+    if (p.handling == Handling::fallback && p.fallback.reason == FallbackReason::below_quality_floor)
+      ++quality_fallback;
   out["primitives_quality_fallback"] = quality_fallback;
   out["bitstream_bytes"] = bitstream;
   out["patches"] = patches;

@@ -295,7 +295,7 @@ TEST(Pages, OnePageShrinksTheDensity) {
   o.max_pages = 1;
   o.quality_fallback = false;
   EncodeReport report;
-  ASSERT_EQ(encode_model(model, o, report), "");
+  ASSERT_EQ(encode_model(model, o, report).message, "");
   ASSERT_EQ(model.meshes[0].primitives.size(), 1u);
   ASSERT_EQ(report.atlases.size(), 1u);
   EXPECT_EQ(report.atlases[0].page_sizes.size(), 1u);
@@ -316,11 +316,12 @@ TEST(Pages, CutIsUndoneWhenEveryPartFallsBack) {
     o.max_pages = pages;
     o.min_psnr = 80;
     EncodeReport report;
-    ASSERT_EQ(encode_model(model, o, report), "");
+    ASSERT_EQ(encode_model(model, o, report).message, "");
     ASSERT_EQ(model.meshes[0].primitives.size(), 1u);
     ASSERT_EQ(report.primitives.size(), 1u);
-    EXPECT_EQ(report.primitives[0].handling.rfind("fallback", 0), 0u) << report.primitives[0].handling;
-    for (const std::string& note : report.notes) EXPECT_EQ(note.find("cut into"), std::string::npos) << note;
+    EXPECT_EQ(report.primitives[0].handling, Handling::fallback);
+    EXPECT_EQ(report.primitives[0].fallback.reason, FallbackReason::below_quality_floor);
+    for (const Note& note : report.notes) EXPECT_NE(note.kind, NoteKind::cut_into_parts);
     const std::string path = scratch_dir("pages-undo") + (pages == 1 ? "/one.glb" : "/many.glb");
     ASSERT_EQ(write_gltf(model, path), "");
     std::ifstream in(path, std::ios::binary);
@@ -348,24 +349,33 @@ TEST(Pages, UndoneCutRenumbersLaterPrimitivesInNotes) {
     PrimitiveReport pr;
     pr.mesh = 0;
     pr.primitive = p;
-    pr.handling = p % 2 == 0 ? "fallback: explicit UVs kept (test)" : "implicit-uv";
+    pr.handling = p % 2 == 0 ? Handling::fallback : Handling::implicit_uv;
     report.primitives.push_back(pr);
   }
-  report.notes = {"mesh 0 primitive 0 cut into 2 primitives",
-                  "mesh 0 primitive 2: fallback: explicit UVs kept (test)",
-                  "mesh 0 primitive 3: a note on B's part", "mesh 1 primitive 3: another mesh",
-                  "mesh 0 primitive 1: a note on B"};
+  auto note = [](NoteKind kind, int mesh, int primitive, const std::string& detail = {}) {
+    Note n;
+    n.kind = kind;
+    n.mesh = mesh;
+    n.primitive = primitive;
+    n.detail = detail;
+    return n;
+  };
+  report.notes = {note(NoteKind::cut_into_parts, 0, 0), note(NoteKind::fallback, 0, 2),
+                  note(NoteKind::draco_unsupported, 0, 3, "a note on B's part"),
+                  note(NoteKind::draco_unsupported, 1, 3, "another mesh"),
+                  note(NoteKind::draco_unsupported, 0, 1, "a note on B")};
   EncodeOptions o;
   std::vector<int> replaced;
-  ASSERT_EQ(undo_fallen_back_cuts(m, plan, o, replaced, report), "");
+  ASSERT_EQ(undo_fallen_back_cuts(m, plan, o, replaced, report).message, "");
   EXPECT_EQ(m.meshes[0].primitives.size(), 3u);
-  const std::vector<std::string> want = {"mesh 0 primitive 2: a note on B's part",
-                                         "mesh 1 primitive 3: another mesh",
-                                         "mesh 0 primitive 1: a note on B"};
-  EXPECT_EQ(report.notes, want);
+  ASSERT_EQ(report.notes.size(), 3u);
+  EXPECT_TRUE(report.notes[0].about(0, 2)) << report.notes[0].detail;  // B's part, formerly 3
+  EXPECT_EQ(report.notes[0].detail, "a note on B's part");
+  EXPECT_TRUE(report.notes[1].about(1, 3)) << "another mesh's notes keep their numbers";
+  EXPECT_TRUE(report.notes[2].about(0, 1));
   ASSERT_EQ(report.primitives.size(), 3u);
   EXPECT_EQ(report.primitives[2].primitive, 2);
-  EXPECT_EQ(report.primitives[2].handling, "implicit-uv");  // B's part, formerly 3
+  EXPECT_EQ(report.primitives[2].handling, Handling::implicit_uv);  // B's part, formerly 3
 }
 
 }  // namespace

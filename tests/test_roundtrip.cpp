@@ -154,8 +154,8 @@ std::string corpus_path(const std::string& name) {
   if (path.empty()) return ::testing::AssertionFailure() << name << " is not in the corpus";
   tinygltf::Model model;
   if (!read_gltf(path, model).ok) return ::testing::AssertionFailure() << "cannot read " << path;
-  const std::string err = encode_model(model, options, report);
-  if (!err.empty()) return ::testing::AssertionFailure() << err;
+  const Error err = encode_model(model, options, report);
+  if (err.failed()) return ::testing::AssertionFailure() << err.message;
   if (report.atlases.size() != 1) return ::testing::AssertionFailure() << report.atlases.size() << " atlases";
   return ::testing::AssertionSuccess();
 }
@@ -372,7 +372,7 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   model.images[0].mimeType = "image/jpeg";
   EncodeOptions o;
   EncodeReport report;
-  ASSERT_EQ(encode_model(model, o, report), "");
+  ASSERT_EQ(encode_model(model, o, report).message, "");
   ASSERT_EQ(report.atlases.size(), 1u);
   const auto& atlas = report.atlases[0];
   std::printf("JPEG Duck: images %zu -> %zu bytes, %.2f dB\n", atlas.source_image_bytes,
@@ -416,7 +416,7 @@ TEST(GeneratedRoundTrip, TextureTransformScaleKeepsTheDensity) {
     EncodeOptions o;
     o.quality_fallback = false;  // the sample's busy texture would keep explicit UVs for size
     EncodeReport& report = squeezed ? squeezed_report : plain_report;
-    ASSERT_EQ(encode_model(model, o, report), "");
+    ASSERT_EQ(encode_model(model, o, report).message, "");
     ASSERT_EQ(report.atlases.size(), 1u) << "squeezed " << squeezed;
     EXPECT_GE(report.atlases[0].psnr, 38.0) << "squeezed " << squeezed;
   }
@@ -452,6 +452,37 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
     const auto& dext = prim.extensions.at(kDracoExtension);
     EXPECT_EQ(dext.Get("attributes").Has("TEXCOORD_0"), !always) << "explicit UVs travel in the Draco data";
   }
+}
+
+// The report says why a primitive kept explicit UVs as data, not words:
+// VertexColorTest's atlas stays below the quality floor, so its report
+// carries that reason with the figures behind it, and its note the same.
+TEST(CorpusRoundTrip, FallbackReportCarriesTypedReason) {
+  GLTFWARP_REQUIRE_CORPUS();
+  const std::string path = corpus_path("VertexColorTest");
+  ASSERT_FALSE(path.empty());
+  tinygltf::Model model;
+  ASSERT_TRUE(read_gltf(path, model).ok);
+  EncodeReport report;
+  const EncodeOptions o;
+  ASSERT_EQ(encode_model(model, o, report).message, "");
+  size_t fallbacks = 0;
+  for (const PrimitiveReport& p : report.primitives) {
+    if (p.handling != Handling::fallback) continue;
+    ++fallbacks;
+    EXPECT_EQ(p.fallback.reason, FallbackReason::below_quality_floor);
+    EXPECT_GT(p.fallback.min_psnr, 0.0);
+    EXPECT_LT(p.fallback.psnr, p.fallback.min_psnr);
+    EXPECT_GE(p.fallback.density_factor, 1.0);  // the boosts were tried
+    size_t notes = 0;
+    for (const Note& n : report.notes)
+      if (n.about(p.mesh, p.primitive) && n.kind == NoteKind::fallback) {
+        ++notes;
+        EXPECT_EQ(n.fallback.reason, FallbackReason::below_quality_floor);
+      }
+    EXPECT_EQ(notes, 1u);
+  }
+  EXPECT_GT(fallbacks, 0u);
 }
 
 // Issue 5: a normal-mapped model lit before and after. The decoded file's

@@ -49,7 +49,7 @@ void reserve_plain_bytes(tinygltf::Model& model, const PrimitiveGeometry& geom) 
 
 }  // namespace
 
-std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report) {
+Error decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report) {
   std::vector<int> replaced;
   for (size_t mi = 0; mi < model.meshes.size(); ++mi) {
     auto& mesh = model.meshes[mi];
@@ -60,20 +60,21 @@ std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, D
       if (!draco && !ours) continue;
       const std::string where = "mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": ";
       PrimitiveGeometry geom;
-      std::string err = read_primitive(model, prim, geom);
-      if (!err.empty()) return where + err;
+      Error err = error_if(ErrorCode::invalid_input, read_primitive(model, prim, geom));
+      if (err.failed()) return err.at(where);
       if (draco) renormalize_weights(geom);
       if (ours) {
-        err = rebuild_texcoords(model, prim, geom);
-        if (!err.empty()) return where + err;
+        err = error_if(ErrorCode::invalid_input, rebuild_texcoords(model, prim, geom));
+        if (err.failed()) return err.at(where);
         prim.extensions.erase(ext::kName);
         report.uv_maps_rebuilt++;
       }
       if (options.keep_draco) {
         PrimitiveGeometry decoded;
         size_t bytes = 0;
-        err = write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
-        if (!err.empty()) return where + err;
+        err = error_if(ErrorCode::invalid_input,
+                       write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes));
+        if (err.failed()) return err.at(where);
       } else {
         reserve_plain_bytes(model, geom);
         write_primitive_plain(model, prim, geom, replaced);

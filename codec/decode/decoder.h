@@ -6,6 +6,7 @@
 
 #include <tiny_gltf.h>
 
+#include "codec/core/error.h"
 #include "format/gltf/draco_geometry.h"
 
 namespace gltfwarp {
@@ -20,7 +21,8 @@ struct DecodeReport {
   size_t uv_maps_rebuilt = 0;     // primitives whose UVs came from our bitstream
 };
 
-// Decodes `model` in place. Empty string or a one-line error.
-std::string decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report);
+// Decodes `model` in place. Every error is ErrorCode::invalid_input (the
+// file is malformed: an accessor, its Draco data or our bitstream).
+Error decode_model(tinygltf::Model& model, const DecodeOptions& options, DecodeReport& report);
 
 }  // namespace gltfwarp

@@ -5,7 +5,6 @@
 // into the materials) or give the group back its explicit UVs.
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <set>
 
@@ -149,20 +148,20 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
 // The group's primitive goes back to explicit UVs: its source accessors
 // (still in the model until compact_buffers) are written as plain Draco, or
 // raw, like any primitive without implicit UVs.
-std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip,
-                                 const EncodeOptions& options, std::vector<int>& replaced,
-                                 PrimitiveReport& pr, const std::string& why) {
+Error restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip, const EncodeOptions& options,
+                           std::vector<int>& replaced, PrimitiveReport& pr, const Fallback& why) {
   tinygltf::Primitive& prim = model.meshes[ip.mesh].primitives[ip.primitive];
   PrimitiveGeometry geom;
   pr.geometry_bytes = 0;
   pr.bitstream_bytes = 0;
   pr.patches = 0;
   pr.atlas = -1;
-  if (std::string err =
+  if (Error e =
           rewrite_explicit(model, prim, ip.source_primitive, options, replaced, geom, pr.geometry_bytes);
-      !err.empty())
-    return err;
-  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+      e.failed())
+    return e;
+  pr.handling = Handling::fallback;
+  pr.fallback = why;
   return {};
 }
 
@@ -206,9 +205,9 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // round's result is kept only if its own measurement holds the floor and its
 // images are smaller; otherwise the previous atlas is rebuilt and the search
 // stops.
-std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                                   const EncodeOptions& options, SourceImages& sources, double factor,
-                                   double min_psnr, GroupAtlas& built) {
+Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                             const EncodeOptions& options, SourceImages& sources, double factor,
+                             double min_psnr, GroupAtlas& built) {
   constexpr int32_t kStep = -2;
   StepBias bias(group.members.size());
   for (size_t k = 0; k < group.members.size(); ++k)
@@ -226,8 +225,9 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
     for (auto& b : all_down)
       for (int32_t& step : b) step += kStep;
     GroupAtlas down;
-    std::string err = measure_group_atlas(model, plan, group, options, sources, factor, all_down, down);
-    if (!err.empty()) return err;
+    if (Error e = measure_group_atlas(model, plan, group, options, sources, factor, all_down, down);
+        e.failed())
+      return e;
     plan_follows_built = false;
     if (down.capped || down.patch_error.size() != built.patch_error.size()) break;
     double squared = built.error.squared;
@@ -260,8 +260,8 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
       offset += next[k].size();
     }
     GroupAtlas chosen;
-    err = build_group_atlas(model, plan, group, options, sources, factor, next, chosen);
-    if (!err.empty()) return err;
+    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, next, chosen); e.failed())
+      return e;
     // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
     // checker compresses worse): keep a round only if the bytes fell too.
     if (chosen.error.values > 0 && chosen.floor_psnr() >= min_psnr && !chosen.capped &&
@@ -275,19 +275,18 @@ std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& p
     return build_group_atlas(model, plan, group, options, sources, factor, bias, built);
   }
   // The last build may have been a measurement: the plan's UVs must be built's.
-  return plan_follows_built ? std::string()
+  return plan_follows_built ? Error()
                             : build_group_atlas(model, plan, group, options, sources, factor, bias, built);
 }
 
 // The group's atlas at the first density factor, then at each later one
 // while it stays below the quality floor (and more density can still help).
-std::string build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                           const EncodeOptions& options, SourceImages& sources,
-                           const std::vector<double>& factors, double min_psnr, GroupAtlas& built,
-                           double& factor_used) {
+Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                     const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
+                     double min_psnr, GroupAtlas& built, double& factor_used) {
   for (double factor : factors) {
-    std::string err = build_group_atlas(model, plan, group, options, sources, factor, {}, built);
-    if (!err.empty()) return err;
+    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, {}, built); e.failed())
+      return e;
     factor_used = factor;
     if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= min_psnr || built.capped) break;
   }
@@ -296,8 +295,8 @@ std::string build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, con
 
 }  // namespace
 
-std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                std::vector<int>& replaced, EncodeReport& report) {
+Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                          std::vector<int>& replaced, EncodeReport& report) {
   plan.seam_textures.clear();  // the partitions are made
   plan.seam_materials.clear();
   int clamp_sampler = -1;
@@ -312,13 +311,17 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
   if (auto_density && min_psnr > 0)
     for (double boost : options.density_boosts) factors.push_back(options.texel_density_factor * boost);
   // The group's primitives keep their explicit UVs; the report says why.
-  auto keep_explicit = [&](const AtlasGroup& group, const std::string& why) -> std::string {
+  auto keep_explicit = [&](const AtlasGroup& group, const Fallback& why) -> Error {
     for (size_t m : group.members) {
       auto& pr = report.primitives[plan.prims[m].report_index];
-      std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
-      if (!err.empty()) return err;
-      report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " +
-                             std::to_string(pr.primitive) + ": " + pr.handling);
+      if (Error e = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why); e.failed())
+        return e;
+      Note note;
+      note.kind = NoteKind::fallback;
+      note.mesh = pr.mesh;
+      note.primitive = pr.primitive;
+      note.fallback = why;
+      report.notes.push_back(note);
       plan.group_of.erase({pr.mesh, pr.primitive});
     }
     return {};
@@ -330,23 +333,25 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
     GroupAtlas built;
     SourceImages sources;
     double factor_used = factors[0];
-    if (std::string err =
-            build_to_floor(model, plan, group, options, sources, factors, min_psnr, built, factor_used);
-        !err.empty())
-      return err;
+    if (Error e = build_to_floor(model, plan, group, options, sources, factors, min_psnr, built, factor_used);
+        e.failed())
+      return e;
     if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
         built.floor_psnr() >= min_psnr + 0.5) {
-      std::string err =
-          spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
-      if (!err.empty()) return err;
+      if (Error e =
+              spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
+          e.failed())
+        return e;
     }
     const double psnr = built.floor_psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
-      char why[160];
-      std::snprintf(why, sizeof why,
-                    "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", psnr,
-                    built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
-      if (std::string err = keep_explicit(group, why); !err.empty()) return err;
+      Fallback why;
+      why.reason = FallbackReason::below_quality_floor;
+      why.psnr = psnr;
+      why.density_factor = built.report.density_factor;
+      why.capped = built.capped;
+      why.min_psnr = min_psnr;
+      if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
     // The method exists to save bytes: when the atlas and the bitstreams
@@ -365,12 +370,12 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
         for (size_t m : group.members)
           explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
       if (implicit_bytes > explicit_bytes) {
-        char why[200];
-        std::snprintf(why, sizeof why,
-                      "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
-                      "and a %.1f dB atlas",
-                      explicit_bytes, implicit_bytes, built.floor_psnr());
-        if (std::string err = keep_explicit(group, why); !err.empty()) return err;
+        Fallback why;
+        why.reason = FallbackReason::explicit_smaller;
+        why.explicit_bytes = explicit_bytes;
+        why.implicit_bytes = implicit_bytes;
+        why.psnr = built.floor_psnr();
+        if (Error e = keep_explicit(group, why); e.failed()) return e;
         continue;
       }
     }

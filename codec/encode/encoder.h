@@ -3,14 +3,15 @@
 // the implicit UV map (our extension) plus warped atlas textures.
 #pragma once
 
-#include <array>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include <tiny_gltf.h>
 
+#include "codec/core/error.h"
 #include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/encode_report.h"
 #include "format/gltf/draco_geometry.h"
 
 namespace gltfwarp {
@@ -62,45 +63,8 @@ struct EncodeOptions {
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 
-struct PrimitiveReport {
-  int mesh = -1, primitive = -1;
-  std::string handling;  // "implicit-uv", "draco", "raw", "raw: morph targets", "pass: points", ...
-  size_t triangles = 0, vertices = 0;
-  size_t geometry_bytes = 0;   // Draco bytes (or raw accessor bytes)
-  size_t bitstream_bytes = 0;  // our UV bitstream
-  uint32_t patches = 0;
-  double max_distortion = 0, mean_distortion = 0;
-  size_t seam_edges = 0;
-  double rect_fill = 0;  // area-weighted patch area / min-area rectangle
-  uint32_t holes = 0;    // patches of 1-3 faces enclosed by one other patch
-  struct {               // EncodeOptions::report_greedy: the plain greedy partition's figures
-    uint32_t patches = 0, seam_edges = 0, holes = 0;
-    double rect_fill = 0;
-  } greedy;
-  size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
-  int atlas = -1;              // index into EncodeReport::atlases
-  uint32_t cut_parts = 0;      // > 1: the source primitive was cut into this many, one atlas page each
-};
-
-struct AtlasReport {
-  std::vector<int> primitives_meshes;               // informative
-  uint32_t width = 0, height = 0;                   // the first page's
-  std::vector<std::array<uint32_t, 2>> page_sizes;  // every page's width and height (one image set each)
-  double fill = 0;                                  // covered texels / atlas texels, over the pages
-  size_t overlapping_texels = 0;
-  size_t source_image_bytes = 0, atlas_image_bytes = 0;
-  double density_factor = 1;  // times the measured texel density
-  double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
-};
-
-struct EncodeReport {
-  std::vector<PrimitiveReport> primitives;
-  std::vector<AtlasReport> atlases;
-  std::vector<std::string> notes;  // one line each: what was passed through and why
-};
-
-// Encodes `model` in place. Returns an empty string or a one-line error; on
-// error the model may be half-written and must not be saved.
-std::string encode_model(tinygltf::Model& model, const EncodeOptions& options, EncodeReport& report);
+// Encodes `model` in place. On error the model may be half-written and
+// must not be saved.
+Error encode_model(tinygltf::Model& model, const EncodeOptions& options, EncodeReport& report);
 
 }  // namespace gltfwarp

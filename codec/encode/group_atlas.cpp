@@ -5,36 +5,35 @@
 
 namespace gltfwarp {
 
-std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                              const EncodeOptions& options, SourceImages& sources, double density_factor,
-                              const StepBias& step_bias, GroupAtlas& out) {
+Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                        const EncodeOptions& options, SourceImages& sources, double density_factor,
+                        const StepBias& step_bias, GroupAtlas& out) {
   out = GroupAtlas{};
   number_patches(plan, group, out);
   const GroupDensity density = choose_density(model, plan, group, options, density_factor);
-  if (std::string err = pack_group(plan, group, options, density, step_bias, PackEffort::tightest, out);
-      !err.empty())
-    return err;
-  if (std::string err = write_streams(plan, group, options, out); !err.empty()) return err;
+  if (Error e = pack_group(plan, group, options, density, step_bias, PackEffort::tightest, out); e.failed())
+    return e;
+  if (Error e = write_streams(plan, group, options, out); e.failed()) return e;
   for (const SlotSource& source : slot_sources(model, group)) {
     SourceImage* decoded = nullptr;
-    if (std::string err = decode_source(model, source.image, sources, decoded); !err.empty()) return err;
+    if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
     const SlotCoding coding = slot_coding(model, source, options);
     out.report.source_image_bytes += model.images[source.image].image.size();
     for (uint32_t page = 0; page < out.pages.size(); ++page) {
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
-      std::string err;
+      Error err;
       if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err))
         continue;  // no member on this page samples the image
-      if (!err.empty()) return err;
+      if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       WarpJob job{source.key, source.image, page, {}, coding.mime};
-      err = code_page_image(atlas, palette, coding, job.bytes);
-      if (!err.empty()) return "image " + std::to_string(source.image) + ": " + err;
+      const std::string image = "image " + std::to_string(source.image) + ": ";
+      if (Error e = code_page_image(atlas, palette, coding, job.bytes); e.failed()) return e.at(image);
       if (!source.slot.normal_map) {
         OIIO::ImageBuf shown;
-        if (coding.lossy && !decode_image(job.bytes, shown, err))
-          return "image " + std::to_string(source.image) + ": cannot read back the coded atlas: " + err;
+        if (std::string why; coding.lossy && !decode_image(job.bytes, shown, why))
+          return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
         measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, out);
       }
       out.report.atlas_image_bytes += job.bytes.size();
@@ -45,38 +44,38 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
   return {};
 }
 
-std::string measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                                const EncodeOptions& options, SourceImages& sources, double density_factor,
-                                const StepBias& step_bias, GroupAtlas& out) {
+Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                          const EncodeOptions& options, SourceImages& sources, double density_factor,
+                          const StepBias& step_bias, GroupAtlas& out) {
   out = GroupAtlas{};
   number_patches(plan, group, out);
   const GroupDensity density = choose_density(model, plan, group, options, density_factor);
-  if (std::string err = pack_group(plan, group, options, density, step_bias, PackEffort::one_order, out);
-      !err.empty())
-    return err;
-  if (std::string err = write_streams(plan, group, options, out); !err.empty()) return err;
+  if (Error e = pack_group(plan, group, options, density, step_bias, PackEffort::one_order, out); e.failed())
+    return e;
+  if (Error e = write_streams(plan, group, options, out); e.failed()) return e;
   for (const SlotSource& source : slot_sources(model, group)) {
     if (source.slot.normal_map) continue;  // measured on colour slots only
     SourceImage* decoded = nullptr;
-    if (std::string err = decode_source(model, source.image, sources, decoded); !err.empty()) return err;
+    if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
     const SlotCoding coding = slot_coding(model, source, options);
     for (uint32_t page = 0; page < out.pages.size(); ++page) {
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
-      std::string err;
+      Error err;
       if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err))
         continue;
-      if (!err.empty()) return err;
+      if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       if (!coding.lossy) {
         measure_page_image(source, coding, *decoded, atlas, uvs, out);
         continue;
       }
+      const std::string image = "image " + std::to_string(source.image) + ": ";
       std::vector<uint8_t> bytes;
       OIIO::ImageBuf shown;
-      err = code_page_image(atlas, palette, coding, bytes);
-      if (err.empty() && !decode_image(bytes, shown, err)) err = "cannot read back the coded atlas: " + err;
-      if (!err.empty()) return "image " + std::to_string(source.image) + ": " + err;
+      if (Error e = code_page_image(atlas, palette, coding, bytes); e.failed()) return e.at(image);
+      if (std::string why; !decode_image(bytes, shown, why))
+        return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
       measure_page_image(source, coding, *decoded, shown, uvs, out);
     }
   }

@@ -24,6 +24,7 @@
 
 #include <tiny_gltf.h>
 
+#include "codec/core/error.h"
 #include "codec/encode/encoder.h"
 #include "codec/encode/implicit_uv_encoder.h"
 #include "codec/encode/texture/png_palette.h"
@@ -88,17 +89,17 @@ using StepBias = std::vector<std::vector<int32_t>>;
 
 // Every stage, for an atlas the file may hold: the tightest packing, every
 // slot (normal maps too) coded in its output format.
-std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                              const EncodeOptions& options, SourceImages& sources, double density_factor,
-                              const StepBias& step_bias, GroupAtlas& out);
+Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                        const EncodeOptions& options, SourceImages& sources, double density_factor,
+                        const StepBias& step_bias, GroupAtlas& out);
 
 // An adaptive round's trial: each patch's texels (patch_texels) and error
 // (patch_error), and whether the atlas was capped. One packing order, colour
 // slots only, and bytes only where coding loses detail (JPEG: its loss is
 // part of the error).
-std::string measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                                const EncodeOptions& options, SourceImages& sources, double density_factor,
-                                const StepBias& step_bias, GroupAtlas& out);
+Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                          const EncodeOptions& options, SourceImages& sources, double density_factor,
+                          const StepBias& step_bias, GroupAtlas& out);
 
 // ---- The stages (group_layout.cpp) ----
 
@@ -126,14 +127,13 @@ enum class PackEffort {
 
 // Pages by estimate, then each page packed: out.pages, maps, page_of_member,
 // capped, and the report's page sizes, fill, overlap and density factor.
-std::string pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
-                       const GroupDensity& density, const StepBias& step_bias, PackEffort effort,
-                       GroupAtlas& out);
+Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                 const GroupDensity& density, const StepBias& step_bias, PackEffort effort, GroupAtlas& out);
 
 // The bitstreams (out.bitstreams), the UVs exactly as the decoder will
 // rebuild them (each member's corner_uv in the plan) and out.patch_texels.
-std::string write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
-                          GroupAtlas& out);
+Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                    GroupAtlas& out);
 
 // ---- The image stages (group_images.cpp) ----
 
@@ -148,8 +148,7 @@ struct SlotSource {
 std::vector<SlotSource> slot_sources(const tinygltf::Model& model, const AtlasGroup& group);
 
 // The decoded source image (decoded once, kept in `sources`).
-std::string decode_source(const tinygltf::Model& model, int image, SourceImages& sources,
-                          SourceImage*& decoded);
+Error decode_source(const tinygltf::Model& model, int image, SourceImages& sources, SourceImage*& decoded);
 
 // How one slot source is warped and written.
 struct SlotCoding {
@@ -168,7 +167,7 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, std::string& error);
+                     std::vector<SurfaceUvs>& uvs, Error& error);
 
 // Snaps the warped page to the palette it will be written with (PNG kept
 // as PNG keeps its source's palette), so the quality check measures the
@@ -178,8 +177,8 @@ std::span<const PaletteEntry> snap_page_image(const tinygltf::Model& model, cons
                                               SourceImage& decoded, OIIO::ImageBuf& atlas);
 
 // The file's bytes of a snapped page image.
-std::string code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
-                            const SlotCoding& coding, std::vector<uint8_t>& bytes);
+Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
+                      const SlotCoding& coding, std::vector<uint8_t>& bytes);
 
 // Surface error of `shown` (what a viewer samples: the page image, or its
 // coded bytes decoded back) against the source: into the atlas's error, the

@@ -83,13 +83,12 @@ std::vector<SlotSource> slot_sources(const tinygltf::Model& model, const AtlasGr
   return out;
 }
 
-std::string decode_source(const tinygltf::Model& model, int image, SourceImages& sources,
-                          SourceImage*& decoded) {
+Error decode_source(const tinygltf::Model& model, int image, SourceImages& sources, SourceImage*& decoded) {
   auto [found, fresh] = sources.try_emplace(image);
   std::string err;
   if (fresh && !decode_image(model.images[image].image, found->second.pixels, err)) {
     sources.erase(found);
-    return "image " + std::to_string(image) + ": " + err;
+    return {ErrorCode::invalid_input, "image " + std::to_string(image) + ": " + err};
   }
   decoded = &found->second;
   return {};
@@ -121,8 +120,8 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, std::string& error) {
-  error.clear();
+                     std::vector<SurfaceUvs>& uvs, Error& error) {
+  error = {};
   uvs.clear();
   const bool normal_map = source.slot.normal_map;
   std::vector<WarpPrimitive> wp;
@@ -152,8 +151,8 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   const auto [page_width, page_height] = built.report.page_sizes[page];
   const WarpStatus ws = warp_texture(pixels, wp, page_width, page_height, coding.warp, atlas, &wr);
   if (ws != WarpStatus::ok)
-    error = "warping image " + std::to_string(source.image) + ": " + to_string(ws) +
-            (wr.error.empty() ? "" : " " + wr.error);
+    error = {ErrorCode::internal, "warping image " + std::to_string(source.image) + ": " + to_string(ws) +
+                                      (wr.error.empty() ? "" : " " + wr.error)};
   return true;
 }
 
@@ -169,12 +168,14 @@ std::span<const PaletteEntry> snap_page_image(const tinygltf::Model& model, cons
   return palette;
 }
 
-std::string code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
-                            const SlotCoding& coding, std::vector<uint8_t>& bytes) {
-  if (!palette.empty()) return encode_indexed_png(atlas, palette, bytes);
+Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
+                      const SlotCoding& coding, std::vector<uint8_t>& bytes) {
   std::string err;
-  encode_image(atlas, coding.mime, coding.jpeg_quality, bytes, err);
-  return err;
+  if (!palette.empty())
+    err = encode_indexed_png(atlas, palette, bytes);
+  else
+    encode_image(atlas, coding.mime, coding.jpeg_quality, bytes, err);
+  return error_if(ErrorCode::internal, err);
 }
 
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,

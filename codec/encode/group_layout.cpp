@@ -60,8 +60,8 @@ std::vector<std::vector<size_t>> spread_over_pages(std::span<const double> texel
 // capped, and the report's page sizes, fill and overlap. `crowded`: a page
 // of several members overflowed (another spread may help); `scale_kept`:
 // the lowest page's texel scale over `scale` (1 when none shrank).
-std::string pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, double scale,
-                       GroupAtlas& out, bool& crowded, double& scale_kept) {
+Error pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, double scale, GroupAtlas& out,
+                 bool& crowded, double& scale_kept) {
   AtlasReport& ar = out.report;
   out.page_of_member.assign(pp.size(), 0);
   out.maps.assign(pp.size(), UvMap{});
@@ -75,7 +75,8 @@ std::string pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& 
     for (size_t k : out.pages[page]) on_page.push_back(pp[k]);
     PackResult packed;
     const PackStatus ps = pack_atlas(on_page, po, packed);
-    if (ps != PackStatus::ok) return std::string("atlas packing failed: ") + to_string(ps);
+    if (ps != PackStatus::ok)
+      return {ErrorCode::internal, std::string("atlas packing failed: ") + to_string(ps)};
     for (size_t i = 0; i < out.pages[page].size(); ++i) {
       out.maps[out.pages[page][i]] = packed.maps[i];
       out.page_of_member[out.pages[page][i]] = uint32_t(page);
@@ -140,9 +141,8 @@ GroupDensity choose_density(const tinygltf::Model& model, const ImplicitPlan& pl
   return d;
 }
 
-std::string pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
-                       const GroupDensity& density, const StepBias& step_bias, PackEffort effort,
-                       GroupAtlas& out) {
+Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                 const GroupDensity& density, const StepBias& step_bias, PackEffort effort, GroupAtlas& out) {
   std::vector<PackPrimitive> pp;
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
@@ -175,8 +175,7 @@ std::string pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const 
   for (int attempt = 0;; ++attempt, capacity *= 0.75) {
     out.pages = spread_over_pages(texels, capacity, options.max_pages);
     bool crowded = false;
-    if (std::string err = pack_pages(pp, po, density.scale, out, crowded, scale_kept); !err.empty())
-      return err;
+    if (Error e = pack_pages(pp, po, density.scale, out, crowded, scale_kept); e.failed()) return e;
     if (!crowded || attempt >= 3 || out.pages.size() >= std::min<size_t>(options.max_pages, texels.size()))
       break;
   }
@@ -184,17 +183,19 @@ std::string pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const 
   return {};
 }
 
-std::string write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
-                          GroupAtlas& out) {
+Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                    GroupAtlas& out) {
   for (size_t k = 0; k < group.members.size(); ++k) {
     auto& ip = plan.prims[group.members[k]];
     UvMap& map = out.maps[k];
     map.tau = static_cast<float>(options.tau);
     std::vector<uint8_t> bytes;
     UvStatus st = write_uvmap(map, ip.tri, bytes);
-    if (st != UvStatus::ok) return std::string("cannot write the UV bitstream: ") + to_string(st);
+    if (st != UvStatus::ok)
+      return {ErrorCode::internal, std::string("cannot write the UV bitstream: ") + to_string(st)};
     st = decode_uvs(ip.tri, bytes, ip.corner_uv);
-    if (st != UvStatus::ok) return std::string("the UV bitstream does not decode: ") + to_string(st);
+    if (st != UvStatus::ok)
+      return {ErrorCode::internal, std::string("the UV bitstream does not decode: ") + to_string(st)};
     out.bitstreams.push_back(std::move(bytes));
   }
   out.patch_texels.assign(out.patch_count, 0.0);

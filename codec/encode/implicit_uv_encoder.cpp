@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numeric>
 #include <set>
 
@@ -50,16 +49,19 @@ double quantization_tolerance(const VertexAttribute& pos, int bits) {
 
 // The primitive keeps explicit UVs after all: it gets its own copy of its
 // material (the original is warped for the group's other members, if any)
-// and leaves the plan. pr.handling says why; the caller writes the geometry.
-std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan,
-                      PrimitiveReport& pr, const std::string& why) {
+// and leaves the plan. pr.fallback says why; the caller writes the geometry.
+Error fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan, PrimitiveReport& pr,
+                FallbackReason why, LayoutStatus layout = LayoutStatus::ok) {
   for (const int material : primitive_materials(prim))
     if (static_cast<size_t>(material) < model.materials.size()) {
       model.materials.push_back(model.materials[material]);
       replace_primitive_material(prim, material, static_cast<int>(model.materials.size() - 1));
     }
   plan.group_of.erase({pr.mesh, pr.primitive});
-  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+  pr.handling = Handling::fallback;
+  pr.fallback = Fallback{};
+  pr.fallback.reason = why;
+  pr.fallback.layout = layout;
   return {};
 }
 
@@ -86,23 +88,23 @@ std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, const tin
   return out;
 }
 
-std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report) {
+Error plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report) {
   // Images we can decode (others make their primitives keep explicit UVs).
   std::vector<int> decodable(model.images.size(), -1);
   auto image_ok = [&](int img) {
     if (decodable[img] < 0) {
-      std::string err;
+      Note note;
+      note.image = img;
       int w = 0, h = 0;
       // image_size reads KTX2 headers (for sizes), but only PNG/JPEG/WebP decode.
       if (sniff_image_codec(model.images[img].image) == ImageCodec::ktx2) {
         decodable[img] = 0;
-        err = "KTX2 images cannot be decoded and warped";
+        note.kind = NoteKind::image_ktx2;
       } else {
-        decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
+        decodable[img] = image_size(model.images[img].image, w, h, note.detail) ? 1 : 0;
+        note.kind = NoteKind::image_not_decodable;
       }
-      if (!decodable[img])
-        report.notes.push_back("image " + std::to_string(img) +
-                               " kept as is, explicit UVs kept for its users: " + err);
+      if (!decodable[img]) report.notes.push_back(note);
     }
     return decodable[img] == 1;
   };
@@ -124,24 +126,30 @@ std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, Encode
       // Every material the primitive can show counts: its own and those of
       // its KHR_materials_variants, which all sample through the same UVs.
       const std::vector<int> materials = primitive_materials(prim);
-      std::string blocker;
+      Note blocker;  // texture -1: none found
+      blocker.mesh = static_cast<int>(mi);
+      blocker.primitive = static_cast<int>(pi);
       for (const int material : materials) {
         for (const auto& s : texture_slots(model, material)) {
           if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size())
             continue;
           const auto& tex = model.textures[s.texture];
           for (const auto& [name, ext] : tex.extensions)
-            if (ext.IsObject() && ext.Has("source"))
-              blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
-          if (blocker.empty() && texture_image(model, s.texture) < 0)
-            blocker = "texture " + std::to_string(s.texture) + " has no image";
-          if (!blocker.empty()) break;
+            if (ext.IsObject() && ext.Has("source")) {
+              blocker.kind = NoteKind::texture_in_extension;
+              blocker.texture = s.texture;
+              blocker.detail = name;
+            }
+          if (blocker.texture < 0 && texture_image(model, s.texture) < 0) {
+            blocker.kind = NoteKind::texture_without_image;
+            blocker.texture = s.texture;
+          }
+          if (blocker.texture >= 0) break;
         }
-        if (!blocker.empty()) break;
+        if (blocker.texture >= 0) break;
       }
-      if (!blocker.empty()) {
-        report.notes.push_back("mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
-                               ": explicit UVs kept, " + blocker + " that the warp cannot rewrite");
+      if (blocker.texture >= 0) {
+        report.notes.push_back(blocker);
         continue;
       }
       Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
@@ -308,10 +316,9 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
 // parts appended to its mesh, records the cut (undo_fallen_back_cuts) and
 // prepares the first part in its place; the encoder's loop reaches the
 // others.
-std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& source,
-                                  std::span<const uint32_t> part_of_face, ImplicitPlan& plan,
-                                  const EncodeOptions& options, std::vector<int>& replaced,
-                                  PrimitiveReport& pr) {
+Error cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& source,
+                            std::span<const uint32_t> part_of_face, ImplicitPlan& plan,
+                            const EncodeOptions& options, std::vector<int>& replaced, PrimitiveReport& pr) {
   const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
   const int group = plan.group_of.at({pr.mesh, pr.primitive});
   PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
@@ -320,7 +327,7 @@ std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometr
   plan.cuts.push_back(std::move(cut));
   tinygltf::Primitive& first = model.meshes[pr.mesh].primitives[pr.primitive];
   PrimitiveGeometry part;
-  if (std::string err = read_primitive(model, first, part); !err.empty()) return err;
+  if (Error e = error_if(ErrorCode::invalid_input, read_primitive(model, first, part)); e.failed()) return e;
   pr.triangles = part.triangles.size() / 3;
   pr.vertices = part.vertex_count();
   pr.geometry_bytes = 0;
@@ -330,22 +337,23 @@ std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometr
 
 }  // namespace
 
-std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim,
-                                       PrimitiveGeometry& geom, ImplicitPlan& plan,
-                                       const EncodeOptions& options, std::vector<int>& replaced,
-                                       PrimitiveReport& pr) {
+Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
+                                 ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+                                 PrimitiveReport& pr) {
   ImplicitPrimitive ip;
   ip.source_primitive = prim;
   ip.mesh = pr.mesh;
   ip.primitive = pr.primitive;
   ip.had_tangents = geom.find("TANGENT") != nullptr;
   const VertexAttribute* uv0 = geom.find("TEXCOORD_0");
-  if (!uv0 || uv0->components != 2) return fall_back(model, prim, plan, pr, "TEXCOORD_0 is not a VEC2");
+  if (!uv0 || uv0->components != 2)
+    return fall_back(model, prim, plan, pr, FallbackReason::texcoord_not_vec2);
   std::vector<float> source_corner_uv(geom.triangles.size() * 2);
   for (size_t c = 0; c < geom.triangles.size(); ++c)
     for (int i = 0; i < 2; ++i) {
       source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
-      if (!std::isfinite(source_corner_uv[2 * c + i])) return "TEXCOORD_0 holds a NaN or infinite value";
+      if (!std::isfinite(source_corner_uv[2 * c + i]))
+        return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
     }
   // Clearly more texels than one atlas page holds, by the source's own
   // count: cut along the source's UV charts before the costly steps (Draco,
@@ -366,12 +374,13 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
   weld_vertices(geom.attributes, geom.triangles);
   const VertexAttribute* src_pos = geom.find("POSITION");
-  if (!src_pos || src_pos->components != 3) return "POSITION is not a VEC3";
+  if (!src_pos || src_pos->components != 3) return {ErrorCode::invalid_input, "POSITION is not a VEC3"};
   for (size_t e = 0; e < src_pos->count(); ++e)
     for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(src_pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+      if (!std::isfinite(src_pos->get(e, i)))
+        return {ErrorCode::invalid_input, "POSITION holds a NaN or infinite value"};
 
-  if (geom.triangles.empty()) return fall_back(model, prim, plan, pr, "no triangles");
+  if (geom.triangles.empty()) return fall_back(model, prim, plan, pr, FallbackReason::no_triangles);
 
   // The geometry is written to a trial copy of the primitive first: if the
   // embedding fails, the primitive falls back to explicit UVs untouched, and
@@ -385,18 +394,20 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     ip.decoded = geom;
     pr.geometry_bytes += plain_geometry_bytes(geom);
   } else {
-    std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded,
-                                            pr.geometry_bytes);
-    if (!err.empty()) return err;
+    if (Error e = error_if(ErrorCode::invalid_input,
+                           write_primitive_draco(model, trial, geom, options.draco, trial_replaced,
+                                                 ip.decoded, pr.geometry_bytes));
+        e.failed())
+      return e;
     tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
   }
-  auto discard_trial = [&](const std::string& why) {
+  auto discard_trial = [&](FallbackReason why, LayoutStatus layout = LayoutStatus::ok) {
     for (size_t i = accessors_before; i < model.accessors.size(); ++i)
       replaced.push_back(static_cast<int>(i));
     pr.geometry_bytes = 0;
-    return fall_back(model, prim, plan, pr, why);
+    return fall_back(model, prim, plan, pr, why, layout);
   };
-  if (ip.decoded.triangles.empty()) return discard_trial("no triangles left after Draco");
+  if (ip.decoded.triangles.empty()) return discard_trial(FallbackReason::no_triangles_after_draco);
 
   std::vector<uint32_t> point_to_vertex;
   ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
@@ -448,8 +459,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   // and 32 and 297 KB with the rule off.
   if (!face_chart.empty()) eo.max_density_ratio = 32.0;
   Embedding er = embed(ip.tri, eo);
-  if (er.status != LayoutStatus::ok)
-    return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
   // A patch larger than a page could not go to pages (a flat ground plane
   // under a big texture is one patch): its faces are split into regions of
   // about half a page that no patch may cross, and the mesh is embedded
@@ -462,8 +472,7 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
     face_chart = std::move(regions);
     eo.face_chart = face_chart;
     er = embed(ip.tri, eo);
-    if (er.status != LayoutStatus::ok)
-      return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+    if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
   }
 
   // Too many texels for one atlas page: cut along patch boundaries into
@@ -473,7 +482,9 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
           page_parts(ip, er, match, geom.triangles.size() / 3, image_w, image_h, options);
       !part_of_face.empty()) {
     PrimitiveGeometry source;
-    if (std::string err = read_primitive(model, ip.source_primitive, source); !err.empty()) return err;
+    if (Error e = error_if(ErrorCode::invalid_input, read_primitive(model, ip.source_primitive, source));
+        e.failed())
+      return e;
     for (size_t i = accessors_before; i < model.accessors.size(); ++i)
       replaced.push_back(static_cast<int>(i));
     return cut_and_prepare_first(model, source, part_of_face, plan, options, replaced, pr);
@@ -495,7 +506,8 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   ip.seeds = std::move(er.seeds);
   ip.corner_xy = std::move(er.corner_xy);
 
-  pr.handling = options.raw_geometry ? "implicit-uv (raw geometry)" : "implicit-uv";
+  pr.handling = Handling::implicit_uv;
+  pr.raw_geometry = options.raw_geometry;
   pr.patches = ip.patch_count;
   pr.max_distortion = er.report.max_distortion;
   pr.mean_distortion = er.report.mean_distortion;
@@ -521,44 +533,32 @@ std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primiti
   return {};
 }
 
-std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim,
-                             const tinygltf::Primitive& source, const EncodeOptions& options,
-                             std::vector<int>& replaced, PrimitiveGeometry& geom, size_t& bytes) {
+Error rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
+                       const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
+                       size_t& bytes) {
   for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
   if (prim.indices >= 0) replaced.push_back(prim.indices);
   prim = source;
   bytes = 0;
-  if (std::string err = read_primitive(model, prim, geom); !err.empty()) return err;
+  if (Error e = error_if(ErrorCode::invalid_input, read_primitive(model, prim, geom)); e.failed()) return e;
   if (options.raw_geometry) {
     write_primitive_plain(model, prim, geom, replaced);
     bytes = plain_geometry_bytes(geom);
     return {};
   }
   PrimitiveGeometry decoded;
-  return write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
+  return error_if(ErrorCode::invalid_input,
+                  write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes));
 }
 
-namespace {
-
-// The primitive a note names by its opening "mesh M primitive P" (how the
-// encoder's notes start), and where the rest of the note begins.
-bool note_names(const std::string& note, int& mesh, int& primitive, size_t& rest) {
-  int used = 0;
-  if (std::sscanf(note.c_str(), "mesh %d primitive %d%n", &mesh, &primitive, &used) != 2) return false;
-  rest = size_t(used);
-  return true;
-}
-
-}  // namespace
-
-std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                  std::vector<int>& replaced, EncodeReport& report) {
+Error undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                            std::vector<int>& replaced, EncodeReport& report) {
   auto entry = [&](int mesh, int primitive) -> PrimitiveReport* {
     for (PrimitiveReport& pr : report.primitives)
       if (pr.mesh == mesh && pr.primitive == primitive) return &pr;
     return nullptr;
   };
-  auto is_fallback = [](const PrimitiveReport* pr) { return pr && pr->handling.rfind("fallback", 0) == 0; };
+  auto is_fallback = [](const PrimitiveReport* pr) { return pr && pr->handling == Handling::fallback; };
   std::map<int, std::vector<int>> erased;  // mesh -> primitives to erase
   for (auto cut = plan.cuts.rbegin(); cut != plan.cuts.rend(); ++cut) {
     PrimitiveReport* first = entry(cut->mesh, cut->primitive);
@@ -566,22 +566,20 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
                                             [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
       continue;
     PrimitiveGeometry geom;
-    if (std::string err = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive],
-                                           cut->original, options, replaced, geom, first->geometry_bytes);
-        !err.empty())
-      return err;
+    if (Error e = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive], cut->original,
+                                   options, replaced, geom, first->geometry_bytes);
+        e.failed())
+      return e;
     first->triangles = geom.triangles.size() / 3;
     first->vertices = geom.vertex_count();
     first->cut_parts = 0;
     // The parts' lines in the report and the notes go, and the note of the
     // cut; the whole's other notes stay.
     for (int p : cut->appended) erased[cut->mesh].push_back(p);
-    std::erase_if(report.notes, [&](const std::string& n) {
-      int mesh = -1, primitive = -1;
-      size_t rest = 0;
-      if (!note_names(n, mesh, primitive, rest) || mesh != cut->mesh) return false;
-      if (primitive == cut->primitive) return n.compare(rest, 9, " cut into") == 0;
-      return std::find(cut->appended.begin(), cut->appended.end(), primitive) != cut->appended.end();
+    std::erase_if(report.notes, [&](const Note& n) {
+      if (n.mesh != cut->mesh) return false;
+      if (n.primitive == cut->primitive) return n.kind == NoteKind::cut_into_parts;
+      return std::find(cut->appended.begin(), cut->appended.end(), n.primitive) != cut->appended.end();
     });
   }
   for (auto& entry_of_mesh : erased) {
@@ -596,13 +594,8 @@ std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, co
       for (PrimitiveReport& pr : report.primitives)
         if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
       // Notes on later primitives of the mesh move down too.
-      for (std::string& note : report.notes) {
-        int note_mesh = -1, note_prim = -1;
-        size_t rest = 0;
-        if (note_names(note, note_mesh, note_prim, rest) && note_mesh == mesh && note_prim > p)
-          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) +
-                 note.substr(rest);
-      }
+      for (Note& note : report.notes)
+        if (note.mesh == mesh && note.primitive > p) --note.primitive;
     }
   }
   return {};

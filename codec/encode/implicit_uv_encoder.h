@@ -66,29 +66,28 @@ struct ImplicitPlan {
 
 // Chooses the primitives and groups; clones materials that implicit and
 // explicit primitives share, so the explicit ones keep their textures.
-std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report);
+Error plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report);
 
 // Drops TEXCOORD_0/TANGENT, writes the geometry (Draco or raw), maps the
 // decoded corners to source UVs and partitions the mesh.
-std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim,
-                                       PrimitiveGeometry& geom, ImplicitPlan& plan,
-                                       const EncodeOptions& options, std::vector<int>& replaced,
-                                       PrimitiveReport& report);
+Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim, PrimitiveGeometry& geom,
+                                 ImplicitPlan& plan, const EncodeOptions& options, std::vector<int>& replaced,
+                                 PrimitiveReport& report);
 
 // Puts `source` back in place of `prim` (whose accessors go to `replaced`)
 // and writes its geometry with explicit UVs, as Draco or raw arrays: what
 // the encoder writes for a primitive that keeps them. `geom` receives the
-// geometry, `bytes` what it costs. "" or a one-line error.
-std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim,
-                             const tinygltf::Primitive& source, const EncodeOptions& options,
-                             std::vector<int>& replaced, PrimitiveGeometry& geom, size_t& bytes);
+// geometry, `bytes` what it costs.
+Error rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim, const tinygltf::Primitive& source,
+                       const EncodeOptions& options, std::vector<int>& replaced, PrimitiveGeometry& geom,
+                       size_t& bytes);
 
 // Undoes, latest first, every cut whose parts all kept explicit UVs: the
 // primitive is written whole again (as the encoder writes any primitive
 // with explicit UVs), its parts leave the mesh, and the report's entries
 // and notes follow. A fallback then gives the file it gave before pages.
-std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                  std::vector<int>& replaced, EncodeReport& report);
+Error undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                            std::vector<int>& replaced, EncodeReport& report);
 
 // The TEXCOORD_0 slots whose texture has an image, of every material the
 // primitive can show (primitive_materials: its own and its variants').
@@ -106,7 +105,7 @@ void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& 
 // warped atlas stays below the quality floor (EncodeOptions::min_psnr) at
 // every density tried goes back to explicit UVs (accessors it no longer
 // uses are added to `replaced`).
-std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
-                                std::vector<int>& replaced, EncodeReport& report);
+Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                          std::vector<int>& replaced, EncodeReport& report);
 
 }  // namespace gltfwarp

@@ -16,7 +16,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   if (!gltfwarp::fuzz::read_model(data, size, model)) return 0;
   gltfwarp::DecodeOptions opt;
   gltfwarp::DecodeReport report;
-  const std::string err = gltfwarp::decode_model(model, opt, report);
+  const std::string err = gltfwarp::decode_model(model, opt, report).message;
   if (!err.empty()) {
     if (err.find('\n') != std::string::npos) std::abort();
     return 0;

@@ -1,0 +1,116 @@
+// What the encoder did, as data: per primitive, per atlas, and notes on
+// what was passed through and why. Programs (tests, benchmarks) read the
+// fields; the CLI renders them to text (apps/report_format.cpp).
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "codec/core/layout.h"
+
+namespace gltfwarp {
+
+// How the encoder wrote a primitive.
+enum class Handling {
+  implicit_uv,         // TEXCOORD_0 replaced by our extension (raw_geometry: plain accessors, else Draco)
+  draco,               // Draco geometry; any UVs stay explicit
+  raw,                 // plain float accessors (--geometry raw); any UVs stay explicit
+  raw_morph_targets,   // plain accessors: Draco cannot carry morph targets
+  fallback,            // meant for implicit UVs, kept them explicit: PrimitiveReport::fallback says why
+  pass_not_triangles,  // left as it came: points or lines (PrimitiveReport::mode)
+  pass_no_triangles,   // left as it came: no triangles to write
+  pass_unsupported,    // left as it came: Draco cannot carry an attribute (PrimitiveReport::detail)
+};
+
+// Why a primitive (or its whole atlas group) kept explicit UVs.
+enum class FallbackReason {
+  none,
+  texcoord_not_vec2,         // TEXCOORD_0 is not a VEC2
+  no_triangles,              // nothing to embed
+  no_triangles_after_draco,  // Draco dropped every triangle as degenerate
+  embedding_failed,          // the partition failed (Fallback::layout)
+  below_quality_floor,       // the warped atlas stayed below --min-psnr at every density tried
+  explicit_smaller,          // explicit UVs and the source images cost fewer bytes than the map and atlas
+};
+
+struct Fallback {
+  FallbackReason reason = FallbackReason::none;
+  LayoutStatus layout = LayoutStatus::ok;  // embedding_failed: the partition's status
+  // below_quality_floor: the worst source image's surface PSNR (dB), at this
+  // density factor, against the floor; capped: --max-atlas-size held the density.
+  // explicit_smaller: psnr is the atlas's.
+  double psnr = 0, density_factor = 0, min_psnr = 0;
+  bool capped = false;
+  // explicit_smaller: geometry and images with explicit UVs, against those
+  // with the implicit map (bytes).
+  size_t explicit_bytes = 0, implicit_bytes = 0;
+};
+
+struct PrimitiveReport {
+  int mesh = -1, primitive = -1;
+  Handling handling = Handling::draco;
+  bool raw_geometry = false;  // implicit_uv: the geometry is plain accessors, not Draco
+  Fallback fallback;          // handling == fallback
+  int mode = -1;              // pass_not_triangles: the glTF primitive mode
+  std::string detail;         // pass_unsupported: Draco's own message, shown as it is
+  size_t triangles = 0, vertices = 0;
+  size_t geometry_bytes = 0;   // Draco bytes (or raw accessor bytes)
+  size_t bitstream_bytes = 0;  // our UV bitstream
+  uint32_t patches = 0;
+  double max_distortion = 0, mean_distortion = 0;
+  size_t seam_edges = 0;
+  double rect_fill = 0;  // area-weighted patch area / min-area rectangle
+  uint32_t holes = 0;    // patches of 1-3 faces enclosed by one other patch
+  struct {               // EncodeOptions::report_greedy: the plain greedy partition's figures
+    uint32_t patches = 0, seam_edges = 0, holes = 0;
+    double rect_fill = 0;
+  } greedy;
+  size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
+  int atlas = -1;              // index into EncodeReport::atlases
+  uint32_t cut_parts = 0;      // > 1: the source primitive was cut into this many, one atlas page each
+};
+
+struct AtlasReport {
+  std::vector<int> primitives_meshes;               // informative
+  uint32_t width = 0, height = 0;                   // the first page's
+  std::vector<std::array<uint32_t, 2>> page_sizes;  // every page's width and height (one image set each)
+  double fill = 0;                                  // covered texels / atlas texels, over the pages
+  size_t overlapping_texels = 0;
+  size_t source_image_bytes = 0, atlas_image_bytes = 0;
+  double density_factor = 1;  // times the measured texel density
+  double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
+};
+
+// What a note is about.
+enum class NoteKind {
+  image_not_decodable,    // `image` cannot be decoded (`detail`): its users keep explicit UVs
+  image_ktx2,             // `image` is KTX2, which the warp cannot decode: its users keep explicit UVs
+  texture_in_extension,   // `texture` names its image in extension `detail`: the warp cannot rewrite it
+  texture_without_image,  // `texture` has no image
+  morph_targets_raw,      // kept raw: Draco cannot carry morph targets
+  cut_into_parts,         // cut into `parts` primitives (the others appended to its mesh) for atlas pages
+  fallback,               // kept explicit UVs: `fallback` says why
+  no_triangles,           // passed through: it has no triangles
+  draco_unsupported,      // passed through: Draco cannot carry it (`detail`: Draco's message)
+};
+
+struct Note {
+  NoteKind kind = NoteKind::fallback;
+  int mesh = -1, primitive = -1;  // the primitive it is about (-1: none)
+  int image = -1, texture = -1;
+  uint32_t parts = 0;
+  std::string detail;  // a lower layer's message or an extension's name, shown as it is
+  Fallback fallback;
+  bool about(int m, int p) const { return mesh == m && primitive == p; }
+};
+
+struct EncodeReport {
+  std::vector<PrimitiveReport> primitives;
+  std::vector<AtlasReport> atlases;
+  std::vector<Note> notes;  // what was passed through and why
+};
+
+}  // namespace gltfwarp
