@@ -462,6 +462,8 @@ int main(int argc, char** argv) {
   app.add_flag("!--no-rd", rd, "Skip the rate-distortion curves (the BD-rate ladder and both baselines)");
   uint32_t max_atlas_size = EncodeOptions{}.max_atlas_size;
   app.add_option("--max-atlas-size", max_atlas_size, "Every encode's --max-atlas-size (small values force page cuts)");
+  bool always_implicit = false;
+  app.add_flag("--always-implicit", always_implicit, "Our encodes never fall back to explicit UVs (encode --always-implicit)");
   int render_size = 1024, render_small = 256;
   app.add_option("--render-size", render_size, "Rendered views: side in pixels (0: no render)")->check(CLI::Range(0, 8192));
   app.add_option("--render-small", render_small, "Rendered views, minified: side in pixels (0: none)")->check(CLI::Range(0, 8192));
@@ -487,6 +489,7 @@ int main(int argc, char** argv) {
   // Ours, default options.
   EncodeOptions defaults;
   defaults.max_atlas_size = max_atlas_size;
+  defaults.quality_fallback = !always_implicit;
   Timed ours = encode(src, defaults);
   std::vector<std::pair<int, int>> replaced;
   size_t bitstream = 0, unmatched = 0;

@@ -4,7 +4,8 @@
 The encoder appends a cut primitive's parts after its mesh's own primitives,
 and its report names them by their decoded indices; compare once indexed the
 source with those (out of bounds). A generated torus with a 1024^2 texture
-and --max-atlas-size 256 is cut; compare must run and measure it.
+and --max-atlas-size 256 is cut (--always-implicit: the
+parts would otherwise keep explicit UVs, which are smaller); compare must run and measure it.
 
   test_compare_cut.py GLTF_WARP GLTF_WARP_COMPARE WORKDIR
 """
@@ -19,7 +20,7 @@ model = os.path.join(work, "torus.glb")
 subprocess.run([gw, "sample", "--shape", "torus", "--faces", "4000", "--texture-size", "1024", "-o", model],
                check=True)
 res = subprocess.run([cmp, model, "--work", os.path.join(work, "w"), "--runs", "1", "--max-atlas-size", "256",
-                      "--no-rd", "--render-size", "128", "--render-small", "0"],
+                      "--always-implicit", "--no-rd", "--render-size", "128", "--render-small", "0"],
                      check=True, capture_output=True, text=True)
 r = json.loads(res.stdout)
 assert r["primitives_textured"] == 1, r["primitives_textured"]
