@@ -67,7 +67,9 @@ export class GLTFWarpLoaderPlugin {
       normals: wantTangents ? readFloats(normal) : null, tangents: wantTangents,
     };
     const streamBytes = job.stream.byteLength;
+    const sent = performance.now();
     const r = await this.pool.run(job);
+    const received = performance.now();
 
     const uvName = (ext.texCoord ?? 0) === 0 ? 'uv' : `uv${ext.texCoord}`;
     const out = new BufferGeometry();
@@ -89,7 +91,10 @@ export class GLTFWarpLoaderPlugin {
       ...geometry.userData,
       gltfWarp: {
         patchCount: r.patchCount, atlasWidth: r.atlasWidth, atlasHeight: r.atlasHeight, streamBytes,
-        patchOfVertex: r.patchOfVertex, decodeMs: performance.now() - start, timings: r.timings,
+        patchOfVertex: r.patchOfVertex, decodeMs: performance.now() - start,
+        // Main thread before and after the worker, the worker's round trip
+        // (queue + transfer + decode), and the worker's own stages.
+        timings: { prepare: sent - start, worker: received - sent, assemble: performance.now() - received, ...r.timings },
       },
     };
     geometry.dispose();

@@ -16,22 +16,23 @@ export function decodePrimitive(job) {
   const t0 = performance.now();
   const mesh = weldByPosition(job.positions, job.indices);
   const t1 = performance.now();
-  const { uv: cornerUv, header, patchOfFace } = decodeUvs(mesh, job.stream);
+  const { uv: cornerUv, header, patchOfFace, timings: stages } = decodeUvs(mesh, job.stream);
   const t2 = performance.now();
   const split = splitByCornerUv(job.indices, job.positions.length / 3, cornerUv);
   const vertexCount = split.origin.length;
   const patchOfVertex = new Uint32Array(vertexCount);
   for (let c = 0; c < split.index.length; ++c) patchOfVertex[split.index[c]] = patchOfFace[(c / 3) | 0];
+  const t3 = performance.now();
   let tangent = null;
   if (job.tangents && job.normals) {
     const pos = gather(job.positions, split.origin, 3), nrm = gather(job.normals, split.origin, 3);
     tangent = vertexTangents(pos, nrm, split.uv, split.index);
   }
-  const t3 = performance.now();
+  const t4 = performance.now();
   return {
     index: split.index, origin: split.origin, uv: split.uv, tangent, patchOfVertex,
     patchCount: header.patchCount, atlasWidth: header.atlasWidth, atlasHeight: header.atlasHeight,
-    timings: { weld: t1 - t0, decode: t2 - t1, split: t3 - t2 },
+    timings: { weld: t1 - t0, decode: t2 - t1, ...stages, split: t3 - t2, tangents: t4 - t3 },
   };
 }
 

@@ -12,8 +12,10 @@ import { patchScale, rotationCosSin } from './transform_tables.js';
 
 // mesh: { positions: Float32Array (3 per vertex), indices: Uint32Array (3 per face) },
 // the welded mesh of spec section 3.3. bytes: Uint8Array, the stream.
-// Returns { uv: Float32Array (2 per corner), header, patchOfFace, placements }.
+// Returns { uv: Float32Array (2 per corner), header, patchOfFace, placements,
+// timings (ms per stage) }.
 export function decodeUvs(mesh, bytes) {
+  const t0 = performance.now();
   const { positions, indices } = mesh;
   if (indices.length % 3 !== 0 || positions.length % 3 !== 0)
     throw new GltfWarpError('bad_mesh', 'mesh buffers are not whole triples');
@@ -24,9 +26,11 @@ export function decodeUvs(mesh, bytes) {
 
   const vf = vertexFaces(indices, vertexCount);
   const lower = lowerNeighbours(indices, vertexCount, vf);
+  const t1 = performance.now();
   const patchOfFace = decodePartition(header.partition, indices, faceCount, header.patchCount, vf, lower);
   const byPatch = facesByPatch(patchOfFace, header.patchCount);
   const placements = decodePlacements(header, byPatch);
+  const t2 = performance.now();
 
   // Section 6.6: per patch (c, s) scaled, then per corner the texel position
   // divided by the atlas size, rounded once to float.
@@ -50,5 +54,6 @@ export function decodeUvs(mesh, bytes) {
       uv[6 * f + 2 * k + 1] = ty / H;
     }
   });
-  return { uv, header, patchOfFace, placements };
+  const t3 = performance.now();
+  return { uv, header, patchOfFace, placements, timings: { adjacency: t1 - t0, partition: t2 - t1, layout: t3 - t2 } };
 }
