@@ -44,14 +44,23 @@ export function decodeUvs(mesh, bytes) {
   }
   const W = header.atlasWidth, H = header.atlasHeight;
   const uv = new Float32Array(2 * indices.length);
+  // Every corner of vertex v in patch p gets the same pair, so it is computed
+  // once per (vertex, patch) and copied: doneIn[v] === p + 1 says uvOf[v] is
+  // the pair of v in patch p (the same expression, so the same bits).
+  const doneIn = new Uint32Array(vertexCount), uvOf = new Float32Array(2 * vertexCount);
   layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, (p, f, xy) => {
-    const a = sc[p], b = ss[p], x0 = placements.x[p], y0 = placements.y[p];
     for (let k = 0; k < 3; ++k) {
-      const px = xy[2 * k], py = xy[2 * k + 1];
-      const tx = (a * px - b * py) + x0;
-      const ty = (b * px + a * py) + y0;
-      uv[6 * f + 2 * k] = tx / W; // Float32Array store: round to nearest even
-      uv[6 * f + 2 * k + 1] = ty / H;
+      const v = indices[3 * f + k], o = 6 * f + 2 * k;
+      if (doneIn[v] !== p + 1) {
+        doneIn[v] = p + 1;
+        const a = sc[p], b = ss[p], px = xy[2 * k], py = xy[2 * k + 1];
+        const tx = (a * px - b * py) + placements.x[p];
+        const ty = (b * px + a * py) + placements.y[p];
+        uvOf[2 * v] = tx / W; // Float32Array store: round to nearest even
+        uvOf[2 * v + 1] = ty / H;
+      }
+      uv[o] = uvOf[2 * v];
+      uv[o + 1] = uvOf[2 * v + 1];
     }
   });
   const t3 = performance.now();

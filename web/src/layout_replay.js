@@ -15,6 +15,7 @@ import { GltfWarpError } from './errors.js';
 
 const RELAX_STEPS = 2;
 const NEXT = [1, 2, 0], PREV = [2, 0, 1]; // (k + 1) % 3, (k + 2) % 3
+const NO_VERTEX = 0xffffffff;
 
 function length2(pos, u, w) {
   const dx = pos[3 * u] - pos[3 * w];
@@ -166,6 +167,9 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
   const unf = new Unfoldings();
   const sp = new Float64Array(6), q2 = new Float64Array(2), xy = new Float64Array(6);
   let stamp = 0;
+  // placedCorners[f]: corners of f placed so far (a face is in one patch only,
+  // so it is never reset).
+  const placedCorners = new Uint8Array(nf);
 
   for (let p = 0; p < patchCount; ++p) {
     const mark = p + 1;
@@ -181,8 +185,12 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       fresh[freshN++] = v;
     }
     for (;;) {
-      // Candidates: every vertex that became eligible did so through a face
-      // holding a vertex placed in the previous round.
+      // Candidates: the unplaced vertex of every face of the patch with
+      // exactly two placed corners (a face naming q twice never makes q a
+      // candidate, and then has at most one placed corner while q is
+      // unplaced). Only faces of the vertices placed in the previous round
+      // can have reached two, so those rounds' vertices count their faces'
+      // placed corners; the order found does not matter (the list is sorted).
       ++stamp;
       listN = 0;
       for (let j = 0; j < freshN; ++j) {
@@ -191,16 +199,15 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
         while (i < stop && entPatch[i] < p) ++i;
         cursor[v] = i;
         for (; i < stop && entPatch[i] === p; ++i) {
-          const t = 3 * entFace[i];
-          for (let k = 0; k < 3; ++k) {
-            const q = indices[t + k], a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
-            if (placed[q] === mark || listed[q] === stamp || q === a || q === b) continue;
-            if (placed[a] === mark && placed[b] === mark) {
-              listed[q] = stamp;
-              if (listN === list.length) list = grow(list);
-              list[listN++] = q;
-            }
-          }
+          const f = entFace[i];
+          if (++placedCorners[f] !== 2) continue;
+          const t = 3 * f;
+          const x = indices[t], y = indices[t + 1], z = indices[t + 2];
+          const q = placed[x] !== mark ? x : placed[y] !== mark ? y : placed[z] !== mark ? z : NO_VERTEX;
+          if (q === NO_VERTEX || listed[q] === stamp) continue;
+          listed[q] = stamp;
+          if (listN === list.length) list = grow(list);
+          list[listN++] = q;
         }
       }
       if (listN === 0) break;
