@@ -62,21 +62,40 @@ export class GLTFWarpLoaderPlugin {
     const indices = geometry.index ? new Uint32Array(geometry.index.array) : sequence(pointCount); // a copy: it is transferred
     const normal = geometry.getAttribute('normal');
     const wantTangents = ext.tangents === true && normal !== undefined && normal.itemSize === 3;
+    // The worker also copies each point's attribute values to its new
+    // vertices (position, normal and every other plain attribute), so the
+    // main thread only wraps the arrays it gets back.
+    const uvName = (ext.texCoord ?? 0) === 0 ? 'uv' : `uv${ext.texCoord}`;
+    const gathered = Object.entries(geometry.attributes).filter(([name, attr]) =>
+      name !== uvName && name !== 'position' && !attr.isInterleavedBufferAttribute &&
+      !(name === 'tangent' && wantTangents) && attr.array.length === attr.count * attr.itemSize);
     const job = {
       positions, indices, stream: new Uint8Array(streamView.slice(0)),
       normals: wantTangents ? readFloats(normal) : null, tangents: wantTangents,
+      attributes: gathered.map(([, attr]) => ({ array: attr.array.slice(), itemSize: attr.itemSize })),
     };
     const streamBytes = job.stream.byteLength;
     const sent = performance.now();
     const r = await this.pool.run(job);
     const received = performance.now();
 
-    const uvName = (ext.texCoord ?? 0) === 0 ? 'uv' : `uv${ext.texCoord}`;
     const out = new BufferGeometry();
     out.name = geometry.name;
+    const fromWorker = new Map(gathered.map(([name], i) => [name, r.attributes[i]]));
     for (const [name, attr] of Object.entries(geometry.attributes)) {
       if (name === uvName || (name === 'tangent' && r.tangent)) continue;
-      out.setAttribute(name, remap(attr, r.origin));
+      let array = name === 'position' ? r.positions : fromWorker.get(name);
+      if (array === undefined) {
+        out.setAttribute(name, remap(attr, r.origin));
+        continue;
+      }
+      if (name === 'position' && !(attr.array instanceof Float32Array)) {
+        out.setAttribute(name, remap(attr, r.origin)); // a quantized POSITION keeps its type
+        continue;
+      }
+      const copy = new BufferAttribute(array, attr.itemSize, attr.normalized);
+      copy.name = attr.name;
+      out.setAttribute(name, copy);
     }
     for (const [name, list] of Object.entries(geometry.morphAttributes))
       out.morphAttributes[name] = list.map((attr) => remap(attr, r.origin));

@@ -8,10 +8,12 @@ import { weldByPosition } from './weld.js';
 
 // job: { positions: Float32Array (3 per point), indices: Uint32Array (3 per
 // face, point ids), stream: Uint8Array, normals?: Float32Array (3 per point),
-// tangents: boolean }.
+// tangents: boolean, attributes?: [{ array, itemSize }] (per-point values to
+// copy to the new vertices) }.
 // Returns { index (corner -> new vertex), origin (new vertex -> point), uv
 // (2 per new vertex), tangent? (4 per new vertex), patchOfVertex, patchCount,
-// timings }.
+// timings }; with job.attributes also positions (3 per new vertex) and
+// attributes (one array per job attribute, per new vertex).
 export function decodePrimitive(job) {
   const t0 = performance.now();
   const mesh = weldByPosition(job.positions, job.indices);
@@ -23,16 +25,16 @@ export function decodePrimitive(job) {
   const patchOfVertex = new Uint32Array(vertexCount);
   for (let c = 0; c < split.index.length; ++c) patchOfVertex[split.index[c]] = patchOfFace[(c / 3) | 0];
   const t3 = performance.now();
-  let tangent = null;
-  if (job.tangents && job.normals) {
-    const pos = gather(job.positions, split.origin, 3), nrm = gather(job.normals, split.origin, 3);
-    tangent = vertexTangents(pos, nrm, split.uv, split.index);
-  }
+  let tangent = null, positions = null, attributes = null;
+  if ((job.tangents && job.normals) || job.attributes) positions = gather(job.positions, split.origin, 3);
+  if (job.tangents && job.normals)
+    tangent = vertexTangents(positions, gather(job.normals, split.origin, 3), split.uv, split.index);
+  if (job.attributes) attributes = job.attributes.map((a) => gather(a.array, split.origin, a.itemSize));
   const t4 = performance.now();
   return {
-    index: split.index, origin: split.origin, uv: split.uv, tangent, patchOfVertex,
+    index: split.index, origin: split.origin, uv: split.uv, tangent, patchOfVertex, positions, attributes,
     patchCount: header.patchCount, atlasWidth: header.atlasWidth, atlasHeight: header.atlasHeight,
-    timings: { weld: t1 - t0, decode: t2 - t1, ...stages, split: t3 - t2, tangents: t4 - t3 },
+    timings: { weld: t1 - t0, decode: t2 - t1, ...stages, split: t3 - t2, attributes: t4 - t3 },
   };
 }
 

@@ -62,7 +62,7 @@ export function decodeUvs(mesh, bytes) {
       uv[o] = uvOf[2 * v];
       uv[o + 1] = uvOf[2 * v + 1];
     }
-  });
+  }, vf); // the partition is done with vf: the layout may reorder it
   const t3 = performance.now();
   return { uv, header, patchOfFace, placements, timings: { adjacency: t1 - t0, partition: t2 - t1, layout: t3 - t2 } };
 }

@@ -12,6 +12,7 @@
 // and Math.sqrt (correctly rounded) are used, each expression in the order the
 // spec writes it.
 import { GltfWarpError } from './errors.js';
+import { vertexFaces } from './mesh_adjacency.js';
 
 const RELAX_STEPS = 2;
 const NEXT = [1, 2, 0], PREV = [2, 0, 1]; // (k + 1) % 3, (k + 2) % 3
@@ -137,24 +138,17 @@ function placeSeed(pos, v0, v1, v2, sp) {
 // Lays out every patch. pos: vertex positions (Float32Array, 3 per vertex),
 // indices: Uint32Array (all < vertexCount), patchOfFace / byPatch / seeds from
 // the stream. emit(patch, face, xy) gets each face once its patch is placed,
-// xy a Float64Array of 6 (reused between calls).
-export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit) {
-  const nf = patchOfFace.length, nc = 3 * nf;
-  // Incidences per vertex, sorted by (patch, face): filled patch by patch.
-  const offsets = new Uint32Array(vertexCount + 1);
-  for (let c = 0; c < nc; ++c) ++offsets[indices[c] + 1];
-  for (let v = 0; v < vertexCount; ++v) offsets[v + 1] += offsets[v];
-  const entPatch = new Uint32Array(nc), entFace = new Uint32Array(nc);
+// xy a Float64Array of 6 (reused between calls). vf: optional, the
+// vertexFaces(indices, vertexCount) the caller already has; its face lists
+// are reordered here (by patch), so the caller must be done with them.
+export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, vf = null) {
+  const nf = patchOfFace.length;
+  // Incidences per vertex, sorted by (patch, face): each vertex's face list
+  // (ascending) stably sorted by patch. Almost every list is one patch
+  // already, so this is mostly a check.
+  const { offsets, faces: entFace } = vf ?? vertexFaces(indices, vertexCount);
+  for (let v = 0; v < vertexCount; ++v) sortRunByPatch(entFace, offsets[v], offsets[v + 1], patchOfFace);
   const cursor = offsets.slice(0, vertexCount);
-  for (let i = 0; i < nf; ++i) {
-    const f = byPatch.faces[i], p = patchOfFace[f];
-    for (let k = 0; k < 3; ++k) {
-      const e = cursor[indices[3 * f + k]]++;
-      entPatch[e] = p;
-      entFace[e] = f;
-    }
-  }
-  cursor.set(offsets.subarray(0, vertexCount));
   // v's run in patch p is [cursor[v], runEnd(v, p)): the cursor moves past runs
   // of earlier patches (patches are replayed in ascending order, so each entry
   // is skipped once overall). Inlined by hand below, as in the C++ run_of.
@@ -196,9 +190,9 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       for (let j = 0; j < freshN; ++j) {
         const v = fresh[j], stop = offsets[v + 1];
         let i = cursor[v];
-        while (i < stop && entPatch[i] < p) ++i;
+        while (i < stop && patchOfFace[entFace[i]] < p) ++i;
         cursor[v] = i;
-        for (; i < stop && entPatch[i] === p; ++i) {
+        for (; i < stop && patchOfFace[entFace[i]] === p; ++i) {
           const f = entFace[i];
           if (++placedCorners[f] !== 2) continue;
           const t = 3 * f;
@@ -219,9 +213,9 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
         unf.n = 0;
         const stop = offsets[q + 1];
         let i = cursor[q];
-        while (i < stop && entPatch[i] < p) ++i;
+        while (i < stop && patchOfFace[entFace[i]] < p) ++i;
         cursor[q] = i;
-        for (; i < stop && entPatch[i] === p; ++i) {
+        for (; i < stop && patchOfFace[entFace[i]] === p; ++i) {
           const t = 3 * entFace[i];
           const k = indices[t] === q ? 0 : indices[t + 1] === q ? 1 : 2;
           const a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
@@ -247,6 +241,26 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       }
       emit(p, f, xy);
     }
+  }
+}
+
+// Stable sort of faces[lo, hi) by patch: insertion for the short lists of an
+// ordinary vertex, a comparison sort (patch, then face) for a long fan.
+function sortRunByPatch(faces, lo, hi, patchOfFace) {
+  let sorted = true;
+  for (let i = lo + 1; i < hi && sorted; ++i) sorted = patchOfFace[faces[i - 1]] <= patchOfFace[faces[i]];
+  if (sorted) return;
+  if (hi - lo > 32) {
+    const run = Array.from(faces.subarray(lo, hi));
+    run.sort((a, b) => patchOfFace[a] - patchOfFace[b] || a - b);
+    faces.set(run, lo);
+    return;
+  }
+  for (let i = lo + 1; i < hi; ++i) {
+    const f = faces[i], p = patchOfFace[f];
+    let j = i;
+    for (; j > lo && patchOfFace[faces[j - 1]] > p; --j) faces[j] = faces[j - 1];
+    faces[j] = f;
   }
 }
 
