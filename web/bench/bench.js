@@ -9,6 +9,7 @@ import { GLTFWarpLoaderPlugin } from '../src/GLTFWarpLoaderPlugin.js';
 
 const params = new URLSearchParams(location.search);
 const runs = Number(params.get('runs') ?? 5);
+const workerLimit = params.has('workers') ? Number(params.get('workers')) : undefined; // the plugin's default otherwise
 
 function parseGlb(buffer) {
   const view = new DataView(buffer);
@@ -47,7 +48,7 @@ async function main() {
     const decode = () => new Promise((resolve, reject) =>
       loader.decodeDracoFile(dracoBytes.slice(0), resolve, attributeIds, attributeTypes, undefined, reject));
     // The plugin with the one parser method its rebuild uses.
-    const plugin = new GLTFWarpLoaderPlugin({ loadGeometries: () => [], getDependency: async () => stream.slice(0) });
+    const plugin = new GLTFWarpLoaderPlugin({ loadGeometries: () => [], getDependency: async () => stream.slice(0) }, { workerLimit });
     return { ours, decode, plugin };
   });
 

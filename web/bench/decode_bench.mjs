@@ -2,7 +2,7 @@
 // against Draco + the GLTFWARP rebuild, in headless chromium. Prints the
 // medians and their ratio (issue 18 aims at <= 1.5 on the 1M-face sample),
 // the rebuild alone, and each primitive's time per stage.
-//   node bench/decode_bench.mjs big_enc.glb [runs]
+//   node bench/decode_bench.mjs big_enc.glb [runs] [workers]
 // (web/README.md says how to make big_enc.glb.)
 import { loadavg } from 'node:os';
 import { dirname, basename, resolve } from 'node:path';
@@ -16,12 +16,13 @@ if (!file) {
   process.exit(2);
 }
 const runs = Number(process.argv[3] ?? 5);
+const workers = process.argv[4] ? `&workers=${Number(process.argv[4])}` : ''; // the plugin's default otherwise
 const webDir = fileURLToPath(new URL('..', import.meta.url));
 const server = await serveStatic({ '/': webDir, '/models/': dirname(resolve(file)) });
 const browser = await launchBrowser();
 try {
   const page = await browser.newPage();
-  await page.goto(`${server.url}/bench/bench.html?runs=${runs}&model=/models/${encodeURIComponent(basename(file))}`);
+  await page.goto(`${server.url}/bench/bench.html?runs=${runs}${workers}&model=/models/${encodeURIComponent(basename(file))}`);
   await page.waitForFunction('window.benchResult !== undefined', { timeout: 600000, polling: 500 });
   const r = await page.evaluate(() => window.benchResult);
   if (r.error) throw new Error(r.error);

@@ -29,12 +29,14 @@ export const EXTENSION_NAME = 'GLTFWARP_implicit_texcoords';
 let sharedPool = null;
 
 export class GLTFWarpLoaderPlugin {
-  // options.workerLimit: workers of the shared pool (default 4; 0 decodes on
-  // the main thread). options.pool: a WorkerPool of your own.
+  // options.workerLimit: workers of the shared pool (default: the hardware
+  // threads, at most 4, since more workers than cores only slice the same
+  // cores finer and each worker compiles the decoder afresh; 0 decodes on the
+  // main thread). options.pool: a WorkerPool of your own.
   constructor(parser, options = {}) {
     this.name = EXTENSION_NAME;
     this.parser = parser;
-    this.pool = options.pool ?? (sharedPool ??= new WorkerPool(options.workerLimit ?? 4));
+    this.pool = options.pool ?? (sharedPool ??= new WorkerPool(options.workerLimit ?? defaultWorkerLimit()));
     this.rebuilt = new WeakMap(); // source geometry -> Promise of the rebuilt one
     const loadGeometries = parser.loadGeometries.bind(parser);
     parser.loadGeometries = (primitives) =>
@@ -57,8 +59,6 @@ export class GLTFWarpLoaderPlugin {
     if (!position || position.itemSize !== 3) throw new Error(`${EXTENSION_NAME}: primitive has no usable POSITION`);
     const pointCount = position.count;
     const positions = readFloats(position);
-    for (let i = 0; i < positions.length; ++i)
-      if (!Number.isFinite(positions[i])) throw new Error(`${EXTENSION_NAME}: POSITION holds a NaN or infinite value`);
     const indices = geometry.index ? new Uint32Array(geometry.index.array) : sequence(pointCount); // a copy: it is transferred
     const normal = geometry.getAttribute('normal');
     const wantTangents = ext.tangents === true && normal !== undefined && normal.itemSize === 3;
@@ -119,6 +119,11 @@ export class GLTFWarpLoaderPlugin {
     geometry.dispose();
     return out;
   }
+}
+
+function defaultWorkerLimit() {
+  const threads = globalThis.navigator?.hardwareConcurrency ?? 4;
+  return Math.max(1, Math.min(4, threads));
 }
 
 // Positions / normals as float32, whatever the attribute stores: normalized
