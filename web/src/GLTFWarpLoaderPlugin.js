@@ -84,7 +84,7 @@ export class GLTFWarpLoaderPlugin {
     const fromWorker = new Map(gathered.map(([name], i) => [name, r.attributes[i]]));
     for (const [name, attr] of Object.entries(geometry.attributes)) {
       if (name === uvName || (name === 'tangent' && r.tangent)) continue;
-      let array = name === 'position' ? r.positions : fromWorker.get(name);
+      const array = name === 'position' ? r.positions : fromWorker.get(name);
       if (array === undefined) {
         out.setAttribute(name, remap(attr, r.origin));
         continue;

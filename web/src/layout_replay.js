@@ -246,7 +246,8 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
 
 // Stable sort of faces[lo, hi) by patch: insertion for the short lists of an
 // ordinary vertex, a comparison sort (patch, then face) for a long fan.
-function sortRunByPatch(faces, lo, hi, patchOfFace) {
+// Exported for its test.
+export function sortRunByPatch(faces, lo, hi, patchOfFace) {
   let sorted = true;
   for (let i = lo + 1; i < hi && sorted; ++i) sorted = patchOfFace[faces[i - 1]] <= patchOfFace[faces[i]];
   if (sorted) return;
