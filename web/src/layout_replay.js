@@ -156,58 +156,55 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
   // placed[v] === p + 1: v is placed in patch p; listed[v] === stamp: already a candidate this round.
   const placed = new Uint32Array(vertexCount), listed = new Uint32Array(vertexCount);
   const xyOf = new Float64Array(2 * vertexCount);
-  let fresh = new Uint32Array(64), freshN = 0;
   let list = new Uint32Array(64), listN = 0;
   const unf = new Unfoldings();
   const sp = new Float64Array(6), q2 = new Float64Array(2), xy = new Float64Array(6);
   let stamp = 0;
-  // placedCorners[f]: corners of f placed so far (a face is in one patch only,
-  // so it is never reset).
+  // Candidates of a round: the unplaced vertex of every face of the patch with
+  // exactly two placed corners (a face naming q twice never makes q a
+  // candidate: it then has at most one placed corner while q is unplaced).
+  // placedCorners[f] counts f's placed corners (a face is in one patch only,
+  // so it is never reset); a face reaching two is noted in `pending` while its
+  // vertex is placed, and looked at once the round is over (a face whose last
+  // corner was placed in the same round yields nothing). The order found does
+  // not matter: the list is sorted.
   const placedCorners = new Uint8Array(nf);
+  const pending = new Uint32Array(nf); // each face reaches two once
+  let pendingN = 0;
 
   for (let p = 0; p < patchCount; ++p) {
     const mark = p + 1;
     const seed = seeds[p];
     placeSeed(pos, indices[3 * seed], indices[3 * seed + 1], indices[3 * seed + 2], sp);
-    freshN = 0;
+    pendingN = 0;
     for (let k = 0; k < 3; ++k) {
       const v = indices[3 * seed + k];
       if (placed[v] === mark) continue; // a repeated vertex keeps its first position
       placed[v] = mark;
       xyOf[2 * v] = sp[2 * k];
       xyOf[2 * v + 1] = sp[2 * k + 1];
-      fresh[freshN++] = v;
+      const stop = offsets[v + 1];
+      let i = cursor[v];
+      while (i < stop && patchOfFace[entFace[i]] < p) ++i;
+      cursor[v] = i;
+      for (; i < stop && patchOfFace[entFace[i]] === p; ++i)
+        if (++placedCorners[entFace[i]] === 2) pending[pendingN++] = entFace[i];
     }
     for (;;) {
-      // Candidates: the unplaced vertex of every face of the patch with
-      // exactly two placed corners (a face naming q twice never makes q a
-      // candidate, and then has at most one placed corner while q is
-      // unplaced). Only faces of the vertices placed in the previous round
-      // can have reached two, so those rounds' vertices count their faces'
-      // placed corners; the order found does not matter (the list is sorted).
       ++stamp;
       listN = 0;
-      for (let j = 0; j < freshN; ++j) {
-        const v = fresh[j], stop = offsets[v + 1];
-        let i = cursor[v];
-        while (i < stop && patchOfFace[entFace[i]] < p) ++i;
-        cursor[v] = i;
-        for (; i < stop && patchOfFace[entFace[i]] === p; ++i) {
-          const f = entFace[i];
-          if (++placedCorners[f] !== 2) continue;
-          const t = 3 * f;
-          const x = indices[t], y = indices[t + 1], z = indices[t + 2];
-          const q = placed[x] !== mark ? x : placed[y] !== mark ? y : placed[z] !== mark ? z : NO_VERTEX;
-          if (q === NO_VERTEX || listed[q] === stamp) continue;
-          listed[q] = stamp;
-          if (listN === list.length) list = grow(list);
-          list[listN++] = q;
-        }
+      for (let j = 0; j < pendingN; ++j) {
+        const t = 3 * pending[j];
+        const x = indices[t], y = indices[t + 1], z = indices[t + 2];
+        const q = placed[x] !== mark ? x : placed[y] !== mark ? y : placed[z] !== mark ? z : NO_VERTEX;
+        if (q === NO_VERTEX || listed[q] === stamp) continue;
+        listed[q] = stamp;
+        if (listN === list.length) list = grow(list);
+        list[listN++] = q;
       }
+      pendingN = 0;
       if (listN === 0) break;
       list.subarray(0, listN).sort();
-      if (fresh.length < listN) fresh = new Uint32Array(list.length);
-      freshN = 0;
       for (let j = 0; j < listN; ++j) {
         const q = list[j];
         unf.n = 0;
@@ -216,7 +213,8 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
         while (i < stop && patchOfFace[entFace[i]] < p) ++i;
         cursor[q] = i;
         for (; i < stop && patchOfFace[entFace[i]] === p; ++i) {
-          const t = 3 * entFace[i];
+          const f = entFace[i], t = 3 * f;
+          if (++placedCorners[f] === 2) pending[pendingN++] = f;
           const k = indices[t] === q ? 0 : indices[t + 1] === q ? 1 : 2;
           const a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
           if (a === q || b === q) continue; // q not exactly once in this face
@@ -228,7 +226,6 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
         xyOf[2 * q] = q2[0];
         xyOf[2 * q + 1] = q2[1];
         placed[q] = mark;
-        fresh[freshN++] = q;
       }
     }
     for (let i = byPatch.start[p]; i < byPatch.start[p + 1]; ++i) {
