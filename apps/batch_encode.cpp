@@ -184,7 +184,7 @@ int run_batch_encode(const BatchOptions& o, const std::vector<std::string>& work
   std::string suffix;
   if (o.shard.count > 1)
     suffix += " (shard " + std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count) + " of " +
-              std::to_string(all.size()) + ")";
+              std::to_string(all.size()) + " files)";
   if (!o.report_path.empty()) suffix += "; report: " + o.report_path;
   progress.finish(suffix);
   return progress.failed() > 0 ? 1 : 0;

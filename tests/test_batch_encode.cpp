@@ -220,3 +220,25 @@ TEST(BatchEncode, ArgumentErrorsAreOneLine) {
   EXPECT_FALSE(fs::exists(root + "/o"));
   EXPECT_FALSE(fs::exists(root + "/x.glb"));
 }
+
+TEST(BatchEncode, TwoInputsForOneOutputFailTheSecond) {
+  // x.gltf and x.glb both become x.glb with --container glb: the first in
+  // the sorted list keeps the output, the second fails without running.
+  // Placeholder files: both fail, each for its own reason.
+  const std::string root = scratch_dir("batch-collide"), lib = root + "/lib";
+  fs::create_directories(lib);
+  std::ofstream(lib + "/x.glb") << "x";
+  std::ofstream(lib + "/x.gltf") << "x";
+  std::string log;
+  EXPECT_EQ(encode(lib + " --out-dir " + root + "/out --container glb --report " + root + "/r.jsonl", &log),
+            1)
+      << log;
+  auto lines = read_report(root + "/r.jsonl");
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_EQ(lines[lib + "/x.glb"]["output"], root + "/out/x.glb");
+  EXPECT_EQ(lines[lib + "/x.gltf"]["output"], root + "/out/x.glb");
+  EXPECT_NE(lines[lib + "/x.gltf"].value("error", "").find("also " + lib + "/x.glb"), std::string::npos)
+      << lines[lib + "/x.gltf"].dump();
+  EXPECT_NE(lines[lib + "/x.glb"].value("error", "").find("cannot read"), std::string::npos)
+      << lines[lib + "/x.glb"].dump();
+}
