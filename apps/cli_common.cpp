@@ -1,7 +1,8 @@
 // What both halves of the CLI share (sources in commands.h).
+#include <unistd.h>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
-#include <unistd.h>
 
 #include "apps/commands.h"
 
@@ -25,7 +26,17 @@ void progress_done() {
   if (isatty(2)) std::fprintf(stderr, "\r%-16s\r", "");
 }
 
+namespace {
+std::vector<std::string>& arguments() {
+  static std::vector<std::string> args;  // set once, by run_verbs, before any verb runs
+  return args;
+}
+}  // namespace
+
+const std::vector<std::string>& invocation_arguments() { return arguments(); }
+
 int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** argv) {
+  arguments().assign(argv + std::min(argc, 1), argv + argc);
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("gltf-warp 0.1.0"));
   std::map<CLI::App*, Runner> runners;
@@ -55,7 +66,8 @@ int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** ar
 
 const std::vector<Verb>& all_verbs() {
   static const std::vector<Verb> verbs = {
-      {"encode", "Encode: drop TEXCOORD_0, write Draco geometry, the UV bitstream and warped textures", nullptr},
+      {"encode", "Encode: drop TEXCOORD_0, write Draco geometry, the UV bitstream and warped textures",
+       nullptr},
       {"decode", "Decode: rebuild TEXCOORD_0 and write a standard glTF 2.0 file", nullptr},
       {"info", "Per-primitive sizes, patches and bitstream sections of a glTF file", nullptr},
       {"sample", "Write a generated textured sample model (.glb or .gltf)", nullptr},

@@ -2,8 +2,8 @@
 #include <cstdio>
 
 #include "apps/commands.h"
-#include "codec/surface_compare.h"
-#include "format/gltf_io.h"
+#include "codec/encode/texture/surface_compare.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 
@@ -14,12 +14,16 @@ Runner add_compare(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   app.add_option("source", args->a, "The original .gltf/.glb")->required()->check(CLI::ExistingFile);
-  app.add_option("decoded", args->b, "The same scene after encode + decode")->required()->check(CLI::ExistingFile);
+  app.add_option("decoded", args->b, "The same scene after encode + decode")
+      ->required()
+      ->check(CLI::ExistingFile);
   app.add_option("--slot", args->opt.slot, "Material slot to compare")->default_val("baseColorTexture");
-  app.add_flag("--lit", args->opt.lit,
-               "Compare lighting: the slot (a normal map, e.g. --slot normalTexture) under three lights through each "
-               "file's NORMAL and TANGENT");
-  app.add_option("--samples", args->opt.samples_per_face, "Samples per triangle; 0 = about one per source texel")
+  app.add_flag(
+      "--lit", args->opt.lit,
+      "Compare lighting: the slot (a normal map, e.g. --slot normalTexture) under three lights through each "
+      "file's NORMAL and TANGENT");
+  app.add_option("--samples", args->opt.samples_per_face,
+                 "Samples per triangle; 0 = about one per source texel")
       ->default_val(0)
       ->check(CLI::Range(0, 1000));
   return [args]() {
@@ -30,9 +34,10 @@ Runner add_compare(CLI::App& app) {
     if (!rb.ok) return fail(rb.error);
     const SurfaceComparison c = compare_surface(a, b, args->opt);
     if (!c.error.empty()) return fail(c.error);
-    std::printf("surface PSNR %.2f dB (RMSE %.3f, max %.0f of 255) over %zu samples on %zu primitives%s\n", c.psnr,
-                c.rmse, c.max_abs, c.samples, c.primitives,
-                c.unmatched_faces ? (", " + std::to_string(c.unmatched_faces) + " faces unmatched").c_str() : "");
+    std::printf(
+        "surface PSNR %.2f dB (RMSE %.3f, max %.0f of 255) over %zu samples on %zu primitives%s\n", c.psnr,
+        c.rmse, c.max_abs, c.samples, c.primitives,
+        c.unmatched_faces ? (", " + std::to_string(c.unmatched_faces) + " faces unmatched").c_str() : "");
     return 0;
   };
 }

@@ -3,8 +3,8 @@
 #include <filesystem>
 
 #include "apps/commands.h"
-#include "codec/decoder.h"
-#include "format/gltf_io.h"
+#include "codec/decode/decoder.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 
@@ -17,7 +17,8 @@ Runner add_decode(CLI::App& app) {
   auto a = std::make_shared<Args>();
   app.add_option("input", a->in, "Encoded .gltf or .glb")->required()->check(CLI::ExistingFile);
   app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container")->required();
-  app.add_flag("--keep-draco", a->opt.keep_draco, "Keep the geometry Draco-compressed (with the rebuilt UVs)");
+  app.add_flag("--keep-draco", a->opt.keep_draco,
+               "Keep the geometry Draco-compressed (with the rebuilt UVs)");
   app.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   return [a]() {
     const auto t0 = std::chrono::steady_clock::now();

@@ -1,80 +1,151 @@
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 
+#include "apps/batch_encode.h"
+#include "apps/batch_options.h"
+#include "apps/child_process.h"
 #include "apps/commands.h"
+#include "apps/encode_summary.h"
 #include "apps/report_format.h"
-#include "codec/encoder.h"
-#include "format/gltf_io.h"
+#include "codec/encode/encoder.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 
+namespace {
+
+enum class Summary { none, table, json };  // json: one line for the batch parent (encode_summary.h)
+
+// Encodes one file; the exit code.
+int encode_file(const std::string& in, const std::string& out, EncodeOptions opt, Summary summary) {
+  opt.progress = progress;
+  const auto t0 = std::chrono::steady_clock::now();
+  tinygltf::Model model;
+  GltfReadResult rr = read_gltf(in, model);
+  if (!rr.ok) return fail(rr.error);
+  EncodeReport report;
+  std::string err = encode_model(model, opt, report);
+  progress_done();
+  if (!err.empty()) return fail(in + ": " + err);
+  err = write_gltf(model, out);
+  if (!err.empty()) return fail(err);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (summary == Summary::table) print_encode_report(report, in, out, secs);
+  if (summary == Summary::json) std::printf("%s\n", encode_summary(report).dump().c_str());
+  return 0;
+}
+
+}  // namespace
+
 Runner add_encode(CLI::App& app) {
   struct Args {
-    std::string in, out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
-        texel_budget = "count";
+    std::vector<std::string> inputs;
+    std::string out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
+                     texel_budget = "count";
     EncodeOptions opt;
+    BatchOptions batch;
+    std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
     bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false,
          cross_source_seams = false, keep_hidden_seams = false;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
-  app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container")->required();
+  app.add_option("inputs", a->inputs,
+                 "Source .gltf or .glb; several files or directories (searched recursively) with --out-dir")
+      ->required()
+      ->check(CLI::ExistingPath);
+  app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container");
+  add_batch_options(app, a->batch, a->shard);
+  app.add_option("--batch-worker-input", a->worker_in)->group("");
+  app.add_option("--batch-worker-output", a->worker_out)->group("");
   app.add_option("--max-distortion", a->opt.tau, "Distortion bound tau of every triangle (>= 1)")
-      ->default_val(1.3)->check(CLI::Range(1.0001, 100.0));
+      ->default_val(1.3)
+      ->check(CLI::Range(1.0001, 100.0));
   app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
-      ->default_val("compact")->check(CLI::IsMember({"compact", "greedy"}));
-  app.add_flag("--report-greedy", a->opt.report_greedy,
-               "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
-               "beside ours (not used for the output)");
-  app.add_flag("--cross-source-seams", a->cross_source_seams,
-               "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
-               "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
-               "textures hide (the same colours on both sides)");
+      ->default_val("compact")
+      ->check(CLI::IsMember({"compact", "greedy"}));
+  app.add_flag(
+      "--report-greedy", a->opt.report_greedy,
+      "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
+      "beside ours (not used for the output)");
+  app.add_flag(
+      "--cross-source-seams", a->cross_source_seams,
+      "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
+      "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
+      "textures hide (the same colours on both sides)");
   app.add_flag("--keep-hidden-seams", a->keep_hidden_seams,
                "Keep patches inside the source's UV charts even across seams the textures hide");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
-      ->default_val("draco")->check(CLI::IsMember({"draco", "raw"}));
-  app.add_option("--texel-density", a->texel_density,
-                 "auto (keep the source's texels per unit), Nx (N times auto, e.g. 0.5x), or N texels per model unit")
+      ->default_val("draco")
+      ->check(CLI::IsMember({"draco", "raw"}));
+  app.add_option(
+         "--texel-density", a->texel_density,
+         "auto (keep the source's texels per unit), Nx (N times auto, e.g. 0.5x), or N texels per model unit")
       ->default_val("auto");
-  app.add_option("--texel-budget", a->texel_budget,
-                 "what auto keeps: count (every source triangle's texels; repeated or mirrored UVs count per use), "
-                 "used (distinct source texels: smaller atlas, less detail), p90 (90th percentile density)")
-      ->default_val("count")->check(CLI::IsMember({"count", "used", "p90"}));
+  app.add_option(
+         "--texel-budget", a->texel_budget,
+         "what auto keeps: count (every source triangle's texels; repeated or mirrored UVs count per use), "
+         "used (distinct source texels: smaller atlas, less detail), p90 (90th percentile density)")
+      ->default_val("count")
+      ->check(CLI::IsMember({"count", "used", "p90"}));
   app.add_option("--max-atlas-size", a->opt.max_atlas_size, "Largest atlas side in texels")
-      ->default_val(4096)->check(CLI::Range(16, 65536));
-  app.add_option("--max-pages", a->opt.max_pages,
-                 "Atlas pages (images of --max-atlas-size) a texture set may spread over before its density shrinks "
-                 "to fit; a primitive too large for one page is cut into primitives of one page each. 1: one page")
-      ->default_val(16)->check(CLI::Range(1, 256));
-  app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->default_val(4)->check(CLI::Range(0, 64));
-  app.add_flag("--power-of-two", a->opt.power_of_two, "Atlas sides as powers of two (default: multiples of 4)");
-  app.add_option("--image-format", a->image_format, "keep, png or jpeg")->default_val("keep")
+      ->default_val(4096)
+      ->check(CLI::Range(16, 65536));
+  app.add_option(
+         "--max-pages", a->opt.max_pages,
+         "Atlas pages (images of --max-atlas-size) a texture set may spread over before its density shrinks "
+         "to fit; a primitive too large for one page is cut into primitives of one page each. 1: one page")
+      ->default_val(16)
+      ->check(CLI::Range(1, 256));
+  app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")
+      ->default_val(4)
+      ->check(CLI::Range(0, 64));
+  app.add_flag("--power-of-two", a->opt.power_of_two,
+               "Atlas sides as powers of two (default: multiples of 4)");
+  app.add_option("--image-format", a->image_format, "keep, png or jpeg")
+      ->default_val("keep")
       ->check(CLI::IsMember({"keep", "png", "jpeg"}));
-  app.add_option("--jpeg-quality", a->opt.jpeg_quality, "JPEG quality of warped images; 0 matches the source's")->default_val(0)->check(CLI::Range(0, 100));
-  app.add_option("--min-psnr", a->opt.min_psnr,
-                 "Quality floor in dB (surface PSNR of each warped atlas against its source). Below it the density "
-                 "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
-                 "density, off when --texel-density is given; 0: off")
+  app.add_option("--jpeg-quality", a->opt.jpeg_quality,
+                 "JPEG quality of warped images; 0 matches the source's")
+      ->default_val(0)
+      ->check(CLI::Range(0, 100));
+  app.add_option(
+         "--min-psnr", a->opt.min_psnr,
+         "Quality floor in dB (surface PSNR of each warped atlas against its source). Below it the density "
+         "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
+         "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
-  app.add_option("--goal-psnr", a->opt.goal_psnr,
-                 "Quality goal in dB of the adaptive density: while the atlas is no larger than the source images "
-                 "it replaces, texels are not halved below it; 0: trade quality for bytes down to --min-psnr")
-      ->default_val(40.0)->check(CLI::Range(0.0, 99.0));
-  app.add_flag("--fixed-density", a->fixed_density,
-               "Keep every patch at its measured density (default: patches whose content is smooth have their "
-               "texels halved, up to six times, while the atlas keeps --min-psnr plus 0.5 dB)");
+  app.add_option(
+         "--goal-psnr", a->opt.goal_psnr,
+         "Quality goal in dB of the adaptive density: while the atlas is no larger than the source images "
+         "it replaces, texels are not halved below it; 0: trade quality for bytes down to --min-psnr")
+      ->default_val(40.0)
+      ->check(CLI::Range(0.0, 99.0));
+  app.add_flag(
+      "--fixed-density", a->fixed_density,
+      "Keep every patch at its measured density (default: patches whose content is smooth have their "
+      "texels halved, up to six times, while the atlas keeps --min-psnr plus 0.5 dB)");
   app.add_flag("--always-implicit", a->always_implicit,
-               "Never fall back to explicit UVs, for quality or for size (still raise the density to meet --min-psnr)");
+               "Never fall back to explicit UVs, for quality or for size (still raise the density to meet "
+               "--min-psnr)");
   app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
-  app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")->default_val(14)->check(CLI::Range(1, 30));
-  app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")->default_val(10)->check(CLI::Range(1, 30));
-  app.add_option("--color-bits", a->opt.draco.color_bits, "Draco colour quantization")->default_val(8)->check(CLI::Range(1, 30));
-  app.add_option("--texcoord-bits", a->opt.draco.texcoord_bits, "Draco texcoord quantization (other sets)")->default_val(12)->check(CLI::Range(1, 30));
-  app.add_option("--generic-bits", a->opt.draco.generic_bits, "Draco generic attribute quantization")->default_val(12)->check(CLI::Range(1, 30));
+  app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")
+      ->default_val(14)
+      ->check(CLI::Range(1, 30));
+  app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")
+      ->default_val(10)
+      ->check(CLI::Range(1, 30));
+  app.add_option("--color-bits", a->opt.draco.color_bits, "Draco colour quantization")
+      ->default_val(8)
+      ->check(CLI::Range(1, 30));
+  app.add_option("--texcoord-bits", a->opt.draco.texcoord_bits, "Draco texcoord quantization (other sets)")
+      ->default_val(12)
+      ->check(CLI::Range(1, 30));
+  app.add_option("--generic-bits", a->opt.draco.generic_bits, "Draco generic attribute quantization")
+      ->default_val(12)
+      ->check(CLI::Range(1, 30));
   app.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   return [a]() {
     EncodeOptions opt = a->opt;
@@ -97,26 +168,30 @@ Runner add_encode(CLI::App& app) {
         value = std::stod(a->texel_density, &used);
         if (used != a->texel_density.size() - (relative ? 1 : 0)) throw std::invalid_argument("trailing");
       } catch (...) {
-        return fail("--texel-density takes 'auto', 'Nx' or a positive number, not '" + a->texel_density + "'", 2);
+        return fail("--texel-density takes 'auto', 'Nx' or a positive number, not '" + a->texel_density + "'",
+                    2);
       }
       if (!(value > 0) || !std::isfinite(value)) return fail("--texel-density must be positive", 2);
-      if (relative) opt.texel_density_factor = value;
-      else opt.texel_density = value;
+      if (relative)
+        opt.texel_density_factor = value;
+      else
+        opt.texel_density = value;
     }
-    opt.progress = progress;
-    const auto t0 = std::chrono::steady_clock::now();
-    tinygltf::Model model;
-    GltfReadResult rr = read_gltf(a->in, model);
-    if (!rr.ok) return fail(rr.error);
-    EncodeReport report;
-    std::string err = encode_model(model, opt, report);
-    progress_done();
-    if (!err.empty()) return fail(a->in + ": " + err);
-    err = write_gltf(model, a->out);
-    if (!err.empty()) return fail(err);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!a->quiet) print_encode_report(report, a->in, a->out, secs);
-    return 0;
+    if (!a->worker_in.empty()) return encode_file(a->worker_in, a->worker_out, opt, Summary::json);
+    if (!a->batch.out_dir.empty()) {
+      if (!a->out.empty()) return fail("-o names one output; --out-dir mirrors the inputs' paths", 2);
+      if (!a->shard.empty())
+        if (std::string e = parse_shard(a->shard, a->batch.shard); !e.empty()) return fail(e, 2);
+      a->batch.inputs = a->inputs;
+      a->batch.quiet = a->quiet;
+      std::vector<std::string> worker = {self_executable()};
+      for (const auto& arg : invocation_arguments()) worker.push_back(arg);
+      return run_batch_encode(a->batch, worker);
+    }
+    if (a->inputs.size() != 1 || !std::filesystem::is_regular_file(a->inputs[0]))
+      return fail("several inputs, or a directory, need --out-dir DIR", 2);
+    if (a->out.empty()) return fail("give the output file: -o OUTPUT (or --out-dir DIR)", 2);
+    return encode_file(a->inputs[0], a->out, opt, a->quiet ? Summary::none : Summary::table);
   };
 }
 

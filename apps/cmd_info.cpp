@@ -3,15 +3,15 @@
 #include <nlohmann/json.hpp>
 
 #include "apps/commands.h"
-#include "codec/embed.h"
-#include "codec/embedding_mesh.h"
-#include "codec/layout.h"
-#include "format/decode_uvs.h"
-#include "format/extension.h"
-#include "format/gltf_accessors.h"
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
-#include "format/uvmap_codec.h"
+#include "codec/core/layout.h"
+#include "codec/core/layout_report.h"
+#include "codec/decode/embedding_mesh.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_accessors.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 
 namespace gltfwarp::cli {
 namespace {
@@ -73,7 +73,9 @@ Runner add_info(CLI::App& app) {
         }
         PrimitiveGeometry geom;
         std::string err = read_primitive(model, prim, geom);
-        if (!err.empty()) return fail(a->in + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " + err);
+        if (!err.empty())
+          return fail(a->in + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " +
+                      err);
         const size_t tris = geom.triangles.size() / 3, verts = geom.vertex_count();
         p["triangles"] = tris;
         p["vertices"] = verts;
@@ -90,7 +92,8 @@ Runner add_info(CLI::App& app) {
           UvStatus st = read_uvmap_info(bytes, si);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
           p["bitstream_bytes"] = si.total_bytes;
-          p["bitstream_sections"] = {{"header", si.header_bytes}, {"partition", si.partition_bytes},
+          p["bitstream_sections"] = {{"header", si.header_bytes},
+                                     {"partition", si.partition_bytes},
                                      {"placements", si.placement_bytes}};
           p["patches"] = si.patch_count;
           p["atlas"] = {si.atlas_width, si.atlas_height};
@@ -132,11 +135,13 @@ Runner add_info(CLI::App& app) {
       return 0;
     }
     std::printf("%s\n", a->in.c_str());
-    std::printf("%-8s %-14s %8s %8s %9s %9s %7s %7s %6s %6s %6s %5s\n", "prim", "geometry", "tris", "verts", "geom B",
-                "uvmap B", "bits/v", "patches", "maxD", "seams", "fill", "holes");
+    std::printf("%-8s %-14s %8s %8s %9s %9s %7s %7s %6s %6s %6s %5s\n", "prim", "geometry", "tris", "verts",
+                "geom B", "uvmap B", "bits/v", "patches", "maxD", "seams", "fill", "holes");
     for (const auto& p : out["primitives"]) {
-      const std::string id = std::to_string(p["mesh"].get<size_t>()) + "/" + std::to_string(p["primitive"].get<size_t>());
-      const std::string kind = p["geometry"].get<std::string>() + (p["implicit_uv"].get<bool>() ? "+implicit" : "");
+      const std::string id =
+          std::to_string(p["mesh"].get<size_t>()) + "/" + std::to_string(p["primitive"].get<size_t>());
+      const std::string kind =
+          p["geometry"].get<std::string>() + (p["implicit_uv"].get<bool>() ? "+implicit" : "");
       if (!p.contains("triangles")) {
         std::printf("%-8s %-14s (not triangles)\n", id.c_str(), kind.c_str());
         continue;
@@ -145,8 +150,9 @@ Runner add_info(CLI::App& app) {
                   p["vertices"].get<size_t>(), p["geometry_bytes"].get<size_t>());
       if (p.contains("bitstream_bytes"))
         std::printf(" %9zu %7.2f %7u %6.3f %6u %6.2f %5u\n", p["bitstream_bytes"].get<size_t>(),
-                    p["bits_per_vertex"].get<double>(), p["patches"].get<unsigned>(), p["max_distortion"].get<double>(),
-                    p["seam_edges"].get<unsigned>(), p["rect_fill"].get<double>(), p["holes"].get<unsigned>());
+                    p["bits_per_vertex"].get<double>(), p["patches"].get<unsigned>(),
+                    p["max_distortion"].get<double>(), p["seam_edges"].get<unsigned>(),
+                    p["rect_fill"].get<double>(), p["holes"].get<unsigned>());
       else
         std::printf("\n");
     }

@@ -1,8 +1,8 @@
 #include <cstdio>
 
 #include "apps/commands.h"
-#include "codec/sample_model.h"
-#include "format/gltf_io.h"
+#include "format/gltf/gltf_io.h"
+#include "tests/support/testing/sample_model.h"
 
 namespace gltfwarp::cli {
 
@@ -13,9 +13,15 @@ Runner add_sample(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   app.add_option("-o,--output", a->out, "Output file (.glb or .gltf)")->required();
-  app.add_option("--shape", a->name, "Which shape")->default_val("twisted-cone")->check(CLI::IsMember(sample_model_names()));
-  app.add_option("--faces", a->faces, "About this many triangles")->default_val(6000)->check(CLI::Range(8, 20000000));
-  app.add_option("--texture-size", a->texture, "Side of the square PNG texture")->default_val(512)->check(CLI::Range(8, 16384));
+  app.add_option("--shape", a->name, "Which shape")
+      ->default_val("twisted-cone")
+      ->check(CLI::IsMember(sample_model_names()));
+  app.add_option("--faces", a->faces, "About this many triangles")
+      ->default_val(6000)
+      ->check(CLI::Range(8, 20000000));
+  app.add_option("--texture-size", a->texture, "Side of the square PNG texture")
+      ->default_val(512)
+      ->check(CLI::Range(8, 16384));
   return [a]() {
     tinygltf::Model model;
     std::string err = make_sample_model(a->name, a->faces, a->texture, model);

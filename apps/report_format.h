@@ -3,10 +3,11 @@
 
 #include <string>
 
-#include "codec/encoder.h"
+#include "codec/encode/encoder.h"
 
 namespace gltfwarp::cli {
 
-void print_encode_report(const EncodeReport& report, const std::string& in, const std::string& out, double seconds);
+void print_encode_report(const EncodeReport& report, const std::string& in, const std::string& out,
+                         double seconds);
 
 }  // namespace gltfwarp::cli

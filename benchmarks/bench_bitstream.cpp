@@ -1,5 +1,5 @@
 // Bitstream benchmarks: encode / decode speed of the GWUV stream and of
-// decode_uvs, and its size (counters) on real partitions (codec/embed on the
+// decode_uvs, and its size (counters) on real partitions (codec/encode/partition/embed on the
 // generated shapes, after a Draco round trip so that the face order is
 // Draco's) next to what TEXCOORD_0 costs in Draco at 12 bits on the same
 // shape. Also measures the alternative partition coding that the format did
@@ -15,13 +15,13 @@
 #include <map>
 #include <random>
 
-#include "codec/draco_geometry.h"
-#include "codec/embed.h"
-#include "codec/shapes.h"
-#include "format/decode_uvs.h"
-#include "format/gltf_accessors.h"
-#include "format/range_coder.h"
-#include "format/uvmap_codec.h"
+#include "codec/encode/partition/embed.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/range_coder.h"
+#include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/draco_geometry.h"
+#include "format/gltf/gltf_accessors.h"
+#include "tests/support/testing/shapes.h"
 #include "tests/test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -61,16 +61,19 @@ size_t draco12_uv_bytes(const ShapeMesh& s) {
     }
     tris.push_back(it->second);
   }
-  const size_t with = draco_size({float_attribute("POSITION", 3, pos), float_attribute("TEXCOORD_0", 2, uv)}, tris);
+  const size_t with =
+      draco_size({float_attribute("POSITION", 3, pos), float_attribute("TEXCOORD_0", 2, uv)}, tris);
   const size_t without = draco_size({float_attribute("POSITION", 3, m.positions)}, m.indices);
   return with > without ? with - without : 0;
 }
 
 // The decoded mesh D: positions only, through Draco (its face order).
 TriMesh draco_round_trip(const TriMesh& m) {
-  const DracoEncoded e = draco_encode({float_attribute("POSITION", 3, m.positions)}, m.indices, DracoOptions{});
-  const DracoDecoded d = draco_decode(e.bytes.data(), e.bytes.size(),
-                                      {DracoWanted{"POSITION", e.attribute_ids.at("POSITION"), 5126, 3, false}});
+  const DracoEncoded e =
+      draco_encode({float_attribute("POSITION", 3, m.positions)}, m.indices, DracoOptions{});
+  const DracoDecoded d =
+      draco_decode(e.bytes.data(), e.bytes.size(),
+                   {DracoWanted{"POSITION", e.attribute_ids.at("POSITION"), 5126, 3, false}});
   TriMesh out;
   out.positions.resize(d.point_count * 3);
   std::memcpy(out.positions.data(), d.attributes[0].data.data(), out.positions.size() * sizeof(float));

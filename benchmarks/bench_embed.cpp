@@ -6,9 +6,9 @@
 #include <cmath>
 #include <map>
 
-#include "codec/embed.h"
-#include "codec/layout.h"
-#include "codec/shapes.h"
+#include "codec/core/layout.h"
+#include "codec/encode/partition/embed.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {
@@ -68,4 +68,3 @@ BENCHMARK(BM_Replay)->Arg(10000)->Arg(100000)->Arg(1000000)->Unit(benchmark::kMi
 
 }  // namespace
 }  // namespace gltfwarp
-

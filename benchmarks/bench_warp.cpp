@@ -5,8 +5,8 @@
 #include <cmath>
 #include <random>
 
-#include "codec/pack.h"
-#include "codec/warp.h"
+#include "codec/encode/atlas/pack.h"
+#include "codec/encode/texture/warp.h"
 
 namespace gltfwarp {
 namespace {

@@ -31,7 +31,7 @@
 // explicit-UV Draco primitive for draco_decoder.
 //
 // Texture-space PSNR: every decoded face is traced back to its source face
-// (codec/corner_match, by position); on each face, points at the centroids
+// (codec/core/corner_match, by position); on each face, points at the centroids
 // of an n x n barycentric subdivision (n grows with the face's source texel
 // area, about one point per source texel, 2 <= n <= 64) sample the source
 // texture at the source UV (with its KHR_texture_transform and sampler wrap)
@@ -55,20 +55,20 @@
 #include <string>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <OpenImageIO/imagebufalgo.h>
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "codec/corner_match.h"
-#include "codec/decoder.h"
-#include "codec/draco_geometry.h"
-#include "codec/encoder.h"
-#include "codec/image_io.h"
-#include "codec/texture_sampler.h"
-#include "format/extension.h"
-#include "format/gltf_io.h"
-#include "format/gltf_materials.h"
-#include "format/gltf_primitive.h"
+#include "codec/core/corner_match.h"
+#include "codec/decode/decoder.h"
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/texture_sampler.h"
+#include "format/gltf/draco_geometry.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
 
 #include "benchmarks/render_view.h"
 
@@ -103,7 +103,8 @@ size_t draco_bytes(const std::vector<VertexAttribute>& attrs, const std::vector<
   return e.bytes.size();
 }
 
-std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs, const std::set<std::string>& drop) {
+std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs,
+                                     const std::set<std::string>& drop) {
   std::vector<VertexAttribute> out;
   for (const auto& a : attrs)
     if (!drop.count(a.semantic)) out.push_back(a);
@@ -150,7 +151,7 @@ struct TextureCache {
 
 struct Psnr {
   double sse = 0;
-  size_t samples = 0;      // colour samples (3 values each)
+  size_t samples = 0;  // colour samples (3 values each)
   size_t faces_skipped = 0;
   double value() const {
     if (!samples) return 0;
@@ -182,7 +183,8 @@ std::vector<std::pair<int, int>> textured_primitives(const tinygltf::Model& m) {
   for (size_t mi = 0; mi < m.meshes.size(); ++mi)
     for (size_t pi = 0; pi < m.meshes[mi].primitives.size(); ++pi) {
       const auto& p = m.meshes[mi].primitives[pi];
-      if (is_triangle_mode(p.mode) && p.attributes.count("TEXCOORD_0") && !colour_slots(m, p.material).empty())
+      if (is_triangle_mode(p.mode) && p.attributes.count("TEXCOORD_0") &&
+          !colour_slots(m, p.material).empty())
         out.push_back({int(mi), int(pi)});
     }
   return out;
@@ -208,13 +210,15 @@ struct SourcePart {
 };
 
 Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
-                  const std::vector<std::pair<int, int>>& prims, int position_bits, double* worst1 = nullptr) {
+                  const std::vector<std::pair<int, int>>& prims, int position_bits,
+                  double* worst1 = nullptr) {
   Psnr r;
   TextureCache sc{&source, {}}, dc{&decoded, {}};
   std::vector<std::pair<double, size_t>> face_errors;  // (sse, samples) per face, for the worst share
   std::map<int, std::vector<int>> by_mesh;
   for (auto [mi, pi] : prims)
-    if (mi >= 0 && mi < int(source.meshes.size()) && pi >= 0 && pi < int(source.meshes[size_t(mi)].primitives.size()))
+    if (mi >= 0 && mi < int(source.meshes.size()) && pi >= 0 &&
+        pi < int(source.meshes[size_t(mi)].primitives.size()))
       by_mesh[mi].push_back(pi);
   for (const auto& [mi, spis] : by_mesh) {
     if (mi >= int(decoded.meshes.size())) fail("psnr: decoded model lacks mesh " + std::to_string(mi));
@@ -275,7 +279,8 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
       const double tol = 1.01 * extent / double((1u << position_bits) - 1);
       const CornerMatch cm = match_corners(sposf, stris, dposf, dg.triangles, tol);
       const char* debug = std::getenv("GLTFWARP_COMPARE_DEBUG");
-      const TextureSampler* ref = parts.empty() || parts[0].slots.empty() ? nullptr : parts[0].slots[0].second.first;
+      const TextureSampler* ref =
+          parts.empty() || parts[0].slots.empty() ? nullptr : parts[0].slots[0].second.first;
       const int ref_w = ref ? ref->pixels.spec().width : 1, ref_h = ref ? ref->pixels.spec().height : 1;
       std::vector<float> debug_img(debug && ref ? size_t(ref_w) * ref_h * 3 : 0);
       auto repeat = [](int i, int n) { return ((i % n) + n) % n; };
@@ -310,12 +315,14 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
         const SourcePart& part = parts[size_t(face_part[sface])];
         for (const auto& [name, a] : part.slots) {
           auto it = dslots.find(name);
-          if (it != dslots.end()) pairs_here.push_back({a.first, &a.second, it->second.first, &it->second.second});
+          if (it != dslots.end())
+            pairs_here.push_back({a.first, &a.second, it->second.first, &it->second.second});
         }
         if (pairs_here.empty()) continue;
         const TextureSampler* face_ref = pairs_here[0].a;
-        const double area = 0.5 * std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
-                                           (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
+        const double area = 0.5 *
+                            std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
+                                     (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
                             face_ref->pixels.spec().width * face_ref->pixels.spec().height;
         const int n = std::clamp(int(std::ceil(std::sqrt(area))), 2, 64);
         const double sse0 = r.sse;
@@ -348,7 +355,8 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
           }
         if (worst1) face_errors.push_back({r.sse - sse0, r.samples - samples0});
       }
-      if (!debug_img.empty()) {  // the decoded colours painted at the source UVs: compare by eye with the source texture
+      if (!debug_img.empty()) {  // the decoded colours painted at the source UVs: compare by eye with the
+                                 // source texture
         OIIO::ImageBuf img(OIIO::ImageSpec(ref_w, ref_h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
         static int call = 0;
         img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" +
@@ -391,14 +399,17 @@ void save(tinygltf::Model m, const std::string& path) {
 size_t image_bytes(const tinygltf::Model& m) {
   size_t n = 0;
   for (const auto& im : m.images) {
-    if (!im.image.empty()) n += im.image.size();
-    else if (im.bufferView >= 0) n += m.bufferViews[im.bufferView].byteLength;
+    if (!im.image.empty())
+      n += im.image.size();
+    else if (im.bufferView >= 0)
+      n += m.bufferViews[im.bufferView].byteLength;
   }
   return n;
 }
 
 // Replaces every image by `bytes` (mime given).
-void replace_images(tinygltf::Model& m, const std::function<std::vector<uint8_t>(const std::vector<uint8_t>&)>& f,
+void replace_images(tinygltf::Model& m,
+                    const std::function<std::vector<uint8_t>(const std::vector<uint8_t>&)>& f,
                     const std::string& mime) {
   for (auto& im : m.images) {
     std::vector<uint8_t> bytes = im.image;
@@ -461,12 +472,16 @@ int main(int argc, char** argv) {
   app.add_option("--runs", runs, "Decode runs (median)")->check(CLI::Range(1, 101));
   app.add_flag("!--no-rd", rd, "Skip the rate-distortion curves (the BD-rate ladder and both baselines)");
   uint32_t max_atlas_size = EncodeOptions{}.max_atlas_size;
-  app.add_option("--max-atlas-size", max_atlas_size, "Every encode's --max-atlas-size (small values force page cuts)");
+  app.add_option("--max-atlas-size", max_atlas_size,
+                 "Every encode's --max-atlas-size (small values force page cuts)");
   bool always_implicit = false;
-  app.add_flag("--always-implicit", always_implicit, "Our encodes never fall back to explicit UVs (encode --always-implicit)");
+  app.add_flag("--always-implicit", always_implicit,
+               "Our encodes never fall back to explicit UVs (encode --always-implicit)");
   int render_size = 1024, render_small = 256;
-  app.add_option("--render-size", render_size, "Rendered views: side in pixels (0: no render)")->check(CLI::Range(0, 8192));
-  app.add_option("--render-small", render_small, "Rendered views, minified: side in pixels (0: none)")->check(CLI::Range(0, 8192));
+  app.add_option("--render-size", render_size, "Rendered views: side in pixels (0: no render)")
+      ->check(CLI::Range(0, 8192));
+  app.add_option("--render-small", render_small, "Rendered views, minified: side in pixels (0: none)")
+      ->check(CLI::Range(0, 8192));
   std::vector<int> ladder = {10, 20, 30, 50, 70, 85, 95};
   app.add_option("--jpeg-ladder", ladder, "JPEG qualities of both curves")->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
@@ -555,7 +570,8 @@ int main(int argc, char** argv) {
     }
     if (g.find("TANGENT")) {
       const std::vector<VertexAttribute> no_tangent = without(g.attributes, {"TANGENT"});
-      const size_t a = draco_bytes(g.attributes, g.triangles, {}), z = draco_bytes(no_tangent, g.triangles, {});
+      const size_t a = draco_bytes(g.attributes, g.triangles, {}),
+                   z = draco_bytes(no_tangent, g.triangles, {});
       tangent += a > z ? a - z : 0;
     }
   }
@@ -613,7 +629,8 @@ int main(int argc, char** argv) {
       return b;
     }();
     tinygltf::Model a = src;
-    replace_images(a, [](const std::vector<uint8_t>&) { return kPng; }, "image/png");
+    replace_images(
+        a, [](const std::vector<uint8_t>&) { return kPng; }, "image/png");
     tinygltf::Model b = a;
     for (auto [mi, pi] : replaced_src) {
       a.meshes[mi].primitives[pi].attributes.erase("TANGENT");
@@ -686,8 +703,9 @@ int main(int argc, char** argv) {
                      const tinygltf::Model& dec, int position_bits, json extra) {
     double worst = 0;
     const Psnr q = texture_psnr(src, dec, textured, position_bits, &worst);
-    json pt = {{"curve", curve}, {"codec", curve == "ours" ? "ours" : "draco12"}, {"setting", setting},
-               {"bytes", file_size(path)}, {"psnr", q.value()}, {"surface_worst1_share", worst}};
+    json pt = {{"curve", curve},     {"codec", curve == "ours" ? "ours" : "draco12"},
+               {"setting", setting}, {"bytes", file_size(path)},
+               {"psnr", q.value()},  {"surface_worst1_share", worst}};
     if (src_scene) {
       const bench::Scene dec_scene(dec);
       for (int size : {render_size, render_small}) {
@@ -713,7 +731,8 @@ int main(int argc, char** argv) {
   auto explicit_count = [&](const EncodeReport& rep) {
     std::set<std::pair<int, int>> implicit_src;
     for (const auto& p : rep.primitives)
-      if (p.handling.rfind("implicit-uv", 0) == 0 && p.primitive < int(src.meshes[size_t(p.mesh)].primitives.size()))
+      if (p.handling.rfind("implicit-uv", 0) == 0 &&
+          p.primitive < int(src.meshes[size_t(p.mesh)].primitives.size()))
         implicit_src.insert({p.mesh, p.primitive});
     size_t n = 0;
     for (const auto& t : textured) n += !implicit_src.count(t);
@@ -767,8 +786,10 @@ int main(int argc, char** argv) {
           continue;
         }
         const auto& sp = d.pixels.spec();
-        const int w = std::max(1, int(std::lround(sp.width * scale))), h = std::max(1, int(std::lround(sp.height * scale)));
-        scaled[im] = OIIO::ImageBufAlgo::resize(d.pixels, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, sp.nchannels));
+        const int w = std::max(1, int(std::lround(sp.width * scale))),
+                  h = std::max(1, int(std::lround(sp.height * scale)));
+        scaled[im] =
+            OIIO::ImageBufAlgo::resize(d.pixels, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, sp.nchannels));
       }
       std::vector<int> qualities = ladder;
       qualities.push_back(0);  // PNG
@@ -792,7 +813,8 @@ int main(int argc, char** argv) {
         const std::string p = work + "/draco12_variant.glb";
         save(m, p);
         char name[64];
-        std::snprintf(name, sizeof name, "%s%s", quality ? ("jpeg q" + std::to_string(quality)).c_str() : "png",
+        std::snprintf(name, sizeof name, "%s%s",
+                      quality ? ("jpeg q" + std::to_string(quality)).c_str() : "png",
                       scale == 1.0 ? "" : (scale == 0.5 ? ", x0.5" : ", x0.71"));
         measure(scale == 1.0 ? "b1" : "b2", name, p, decode(load(p)), explicit12.draco.position_bits,
                 {{"image_scale", scale}});

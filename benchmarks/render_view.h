@@ -29,9 +29,9 @@
 
 #include <tiny_gltf.h>
 
-#include "codec/texture_sampler.h"
-#include "format/gltf_materials.h"
-#include "format/gltf_primitive.h"
+#include "codec/encode/texture/texture_sampler.h"
+#include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
 
 namespace gltfwarp::bench {
 
@@ -54,7 +54,8 @@ inline Mat4 node_local(const tinygltf::Node& n) {
     std::copy(n.matrix.begin(), n.matrix.end(), m.begin());
     return m;
   }
-  const double t[3] = {n.translation.size() == 3 ? n.translation[0] : 0, n.translation.size() == 3 ? n.translation[1] : 0,
+  const double t[3] = {n.translation.size() == 3 ? n.translation[0] : 0,
+                       n.translation.size() == 3 ? n.translation[1] : 0,
                        n.translation.size() == 3 ? n.translation[2] : 0};
   double q[4] = {0, 0, 0, 1}, s[3] = {1, 1, 1};
   if (n.rotation.size() == 4) std::copy(n.rotation.begin(), n.rotation.end(), q);
@@ -78,7 +79,8 @@ inline std::vector<std::pair<int, Mat4>> mesh_instances(const tinygltf::Model& m
     if (n < 0 || n >= int(m.nodes.size()) || depth > 64) return;
     const tinygltf::Node& node = m.nodes[n];
     const Mat4 world = mat_mul(parent, node_local(node));
-    if (node.mesh >= 0 && node.mesh < int(m.meshes.size())) out.push_back({node.mesh, node.skin >= 0 ? id : world});
+    if (node.mesh >= 0 && node.mesh < int(m.meshes.size()))
+      out.push_back({node.mesh, node.skin >= 0 ? id : world});
     for (int c : node.children) walk(c, world, depth + 1);
   };
   std::vector<int> roots;
@@ -146,7 +148,8 @@ struct MipTexture {
     const int y0 = wrap(int(fy), l.h, wrap_t), y1 = wrap(int(fy) + 1, l.h, wrap_t);
     for (int c = 0; c < 3; ++c) {
       auto at = [&](int xx, int yy) { return double(l.rgb[(size_t(yy) * l.w + xx) * 3 + c]); };
-      out[c] = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) + ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
+      out[c] = (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x1, y0)) +
+               ay * ((1 - ax) * at(x0, y1) + ax * at(x1, y1));
     }
   }
 
@@ -170,7 +173,8 @@ struct View {
 };
 
 inline std::vector<View> default_views() {
-  std::vector<View> v = {{{0, 0, 1}}, {{0, 0, -1}}, {{1, 0, 0}}, {{-1, 0, 0}}, {{0.6, 0.7, 0.4}}, {{-0.5, -0.6, -0.6}}};
+  std::vector<View> v = {{{0, 0, 1}},  {{0, 0, -1}},      {{1, 0, 0}},
+                         {{-1, 0, 0}}, {{0.6, 0.7, 0.4}}, {{-0.5, -0.6, -0.6}}};
   for (auto& x : v) {
     const double n = std::sqrt(x.dir[0] * x.dir[0] + x.dir[1] * x.dir[1] + x.dir[2] * x.dir[2]);
     for (double& c : x.dir) c /= n;
@@ -213,7 +217,8 @@ class Scene {
         d.pos.resize(pf.size());
         for (size_t v = 0; v < pf.size() / 3; ++v)
           for (int r = 0; r < 3; ++r)
-            d.pos[3 * v + r] = world[r] * pf[3 * v] + world[4 + r] * pf[3 * v + 1] + world[8 + r] * pf[3 * v + 2] + world[12 + r];
+            d.pos[3 * v + r] = world[r] * pf[3 * v] + world[4 + r] * pf[3 * v + 1] +
+                               world[8 + r] * pf[3 * v + 2] + world[12 + r];
         d.uv.assign(uf.begin(), uf.end());
         d.tris = g.triangles;
         draws_.push_back(std::move(d));
@@ -227,12 +232,15 @@ class Scene {
     Camera c{};
     double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
     for (const auto& d : draws_)
-      for (size_t i = 0; i < d.pos.size(); ++i) lo[i % 3] = std::min(lo[i % 3], d.pos[i]), hi[i % 3] = std::max(hi[i % 3], d.pos[i]);
+      for (size_t i = 0; i < d.pos.size(); ++i)
+        lo[i % 3] = std::min(lo[i % 3], d.pos[i]), hi[i % 3] = std::max(hi[i % 3], d.pos[i]);
     double r = 0;
-    for (int i = 0; i < 3; ++i) c.centre[i] = 0.5 * (lo[i] + hi[i]), r += 0.25 * (hi[i] - lo[i]) * (hi[i] - lo[i]);
+    for (int i = 0; i < 3; ++i)
+      c.centre[i] = 0.5 * (lo[i] + hi[i]), r += 0.25 * (hi[i] - lo[i]) * (hi[i] - lo[i]);
     r = std::max(std::sqrt(r), 1e-12);
     for (int i = 0; i < 3; ++i) c.dir[i] = view.dir[i];
-    const double up0[3] = {std::abs(view.dir[1]) > 0.9 ? 1.0 : 0.0, std::abs(view.dir[1]) > 0.9 ? 0.0 : 1.0, 0};
+    const double up0[3] = {std::abs(view.dir[1]) > 0.9 ? 1.0 : 0.0, std::abs(view.dir[1]) > 0.9 ? 0.0 : 1.0,
+                           0};
     // right = up0 x dir, up = dir x right
     c.right[0] = up0[1] * c.dir[2] - up0[2] * c.dir[1];
     c.right[1] = up0[2] * c.dir[0] - up0[0] * c.dir[2];
@@ -333,7 +341,9 @@ class Scene {
       int wrap_s = 0, wrap_t = 0;
       texture_wraps(m, s.texture, wrap_s, wrap_t);
       TextureSampler t;  // the slot's transform is applied per vertex, in render()
-      if (load_texture_sampler(bytes, s.color_space == ColorSpace::srgb, wrap_s, wrap_t, {1, 0, 0, 0, 1, 0}, t).empty() &&
+      if (load_texture_sampler(bytes, s.color_space == ColorSpace::srgb, wrap_s, wrap_t, {1, 0, 0, 0, 1, 0},
+                               t)
+              .empty() &&
           t.ok)
         mip = std::make_unique<MipTexture>(t);
     }
@@ -351,10 +361,10 @@ inline double to_srgb8(double linear) {
 
 struct RenderComparison {
   double sse = 0;
-  size_t pixels = 0;                    // foreground pixels compared (both renders cover them)
-  std::array<double, 4> sse_by_lod{};   // decoded side's mip level 0, 1, 2, 3+
+  size_t pixels = 0;                   // foreground pixels compared (both renders cover them)
+  std::array<double, 4> sse_by_lod{};  // decoded side's mip level 0, 1, 2, 3+
   std::array<size_t, 4> pixels_by_lod{};
-  std::vector<double> pixel_errors;     // per pixel squared error (sum over RGB), for the worst share
+  std::vector<double> pixel_errors;  // per pixel squared error (sum over RGB), for the worst share
   double psnr() const { return psnr_of(sse, pixels); }
   static double psnr_of(double sse, size_t n) {
     if (!n) return 0;

@@ -1,4 +1,4 @@
-// The pull-push fill of an atlas's empty texels (codec/atlas_fill.h): kept
+// The pull-push fill of an atlas's empty texels (codec/encode/texture/atlas_fill.h): kept
 // texels stay as they are, every filled texel is a blend of kept ones (so
 // within their range), and a fill follows the side it is nearer to.
 #include <gtest/gtest.h>
@@ -8,7 +8,7 @@
 #include <random>
 #include <vector>
 
-#include "codec/atlas_fill.h"
+#include "codec/encode/texture/atlas_fill.h"
 
 namespace gltfwarp {
 namespace {
@@ -16,7 +16,8 @@ namespace {
 template <typename T>
 void check_random(bool deep) {
   std::mt19937 rng(deep ? 7 : 3);
-  for (const auto [w, h, nch] : {std::array<int, 3>{1, 1, 3}, {7, 5, 1}, {33, 17, 3}, {64, 64, 4}, {1, 40, 2}}) {
+  for (const auto [w, h, nch] :
+       {std::array<int, 3>{1, 1, 3}, {7, 5, 1}, {33, 17, 3}, {64, 64, 4}, {1, 40, 2}}) {
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + "x" + std::to_string(nch));
     const size_t n = size_t(w) * h;
     std::vector<T> px(n * nch);

@@ -1,4 +1,4 @@
-// The GLTFWARP_implicit_texcoords bitstream (format/uvmap_codec.h): round
+// The GLTFWARP_implicit_texcoords bitstream (format/bitstream/uvmap_codec.h): round
 // trips over random maps, every truncation, corrupt headers and counts,
 // trailing bytes, transform tables, and apply_placements arithmetic.
 // Golden vectors are in test_bitstream_golden.cpp.
@@ -8,8 +8,8 @@
 #include <cstring>
 #include <random>
 
-#include "format/decode_uvs.h"
-#include "format/uvmap_codec.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -29,7 +29,8 @@ TEST(Bitstream, RoundTripRandomMaps) {
   for (int trial = 0; trial < 300; ++trial) {
     const TriMesh mesh = (trial % 3 == 0) ? make_sphere(3 + rng() % 20, 2 + rng() % 15)
                                           : make_grid(1 + rng() % 30, 1 + rng() % 30);
-    const uint32_t patches = 1 + rng() % std::max(1u, mesh.face_count() / static_cast<uint32_t>(1 + rng() % 20));
+    const uint32_t patches =
+        1 + rng() % std::max(1u, mesh.face_count() / static_cast<uint32_t>(1 + rng() % 20));
     UvMap map = random_uvmap(mesh, patches, rng, trial % 2 == 0, trial % 4 == 0, trial % 5 != 0);
     if (trial % 3 == 1) add_random_seeds(map, rng);
     std::vector<uint8_t> bytes;
@@ -196,7 +197,8 @@ TEST(Bitstream, CorruptSectionSizesAreRejected) {
   const uint8_t part = fx.bytes[part_size_at];
   ASSERT_LT(part, 0x80);
   // A smaller partition section moves the placements size field: never ok.
-  for (int d = 1; d <= part; ++d) EXPECT_NE(fx.with(part_size_at, static_cast<uint8_t>(part - d)), UvStatus::ok);
+  for (int d = 1; d <= part; ++d)
+    EXPECT_NE(fx.with(part_size_at, static_cast<uint8_t>(part - d)), UvStatus::ok);
   // Shortened final section: the stream ends with unused bytes.
   auto b = fx.bytes;
   const size_t place_size_at = part_size_at + 1 + part;

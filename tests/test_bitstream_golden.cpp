@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "format/decode_uvs.h"
-#include "format/uvmap_codec.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
 #include "golden/uvmap_v1_0.h"
 #include "golden/uvmap_v1_1.h"
 #include "test_bitstream_util.h"
@@ -134,7 +134,8 @@ TEST(BitstreamGolden, V1_0DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_0EveryTruncationIsRejected) {
-  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0)));
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_0), std::end(golden::kUvMapV1_0)));
 }
 
 TEST(BitstreamGolden, WriterReproducesV1_1Bytes) {
@@ -166,5 +167,6 @@ TEST(BitstreamGolden, V1_1DecodesToFrozenUvs) {
 }
 
 TEST(BitstreamGolden, V1_1EveryTruncationIsRejected) {
-  expect_prefixes_truncated(std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
 }

@@ -12,8 +12,8 @@
 #include <random>
 #include <vector>
 
-#include "codec/mesh.h"
-#include "format/uvmap.h"
+#include "codec/core/mesh.h"
+#include "format/bitstream/uvmap.h"
 
 namespace gltfwarp::testutil {
 
@@ -42,9 +42,9 @@ inline TriMesh make_sphere(uint32_t nu, uint32_t nv) {
   for (uint32_t j = 1; j < nv; ++j)
     for (uint32_t i = 0; i < nu; ++i) {
       const double th = pi * j / nv, ph = 2 * pi * i / nu;
-      m.positions.insert(m.positions.end(), {static_cast<float>(std::sin(th) * std::cos(ph)),
-                                             static_cast<float>(std::sin(th) * std::sin(ph)),
-                                             static_cast<float>(std::cos(th))});
+      m.positions.insert(m.positions.end(),
+                         {static_cast<float>(std::sin(th) * std::cos(ph)),
+                          static_cast<float>(std::sin(th) * std::sin(ph)), static_cast<float>(std::cos(th))});
     }
   m.positions.insert(m.positions.end(), {0.f, 0.f, -1.f});
   const uint32_t south = 1 + (nv - 1) * nu;

@@ -57,10 +57,18 @@ TEST(Cli, SampleEncodeDecodeInfo) {
   std::string out;
   // A torus: its source texel density is even, so a 128² texture keeps 38 dB
   // (the twisted cone's tip squeezes a full texture row into a point).
-  ASSERT_EQ(run_command(cli() + " sample --shape torus --faces 1500 --texture-size 128 -o " + dir + "/s.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(
+      run_command(cli() + " sample --shape torus --faces 1500 --texture-size 128 -o " + dir + "/s.glb 2>&1",
+                  &out),
+      0)
+      << out;
   // --always-implicit: the sample's texture has detail at every scale and no
   // unused space, so explicit UVs are smaller and the encoder would keep them.
-  ASSERT_EQ(run_command(cli() + " encode --always-implicit --report-greedy " + dir + "/s.glb -o " + dir + "/e.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(cli() + " encode --always-implicit --report-greedy " + dir + "/s.glb -o " + dir +
+                            "/e.glb 2>&1",
+                        &out),
+            0)
+      << out;
   EXPECT_NE(out.find("implicit-uv"), std::string::npos) << out;
   EXPECT_NE(out.find("greedy baseline"), std::string::npos) << out;
   EXPECT_NE(out.find("holes"), std::string::npos) << out;

@@ -1,27 +1,27 @@
-// The partition (codec/embed.h): the embedding's guarantees on every
+// The partition (codec/encode/partition/embed.h): the embedding's guarantees on every
 // generated shape in both modes, bit-exact agreement between the encoder's
 // growth and the decoder's replay, and the compactness targets of issue 8.
 #include <gtest/gtest.h>
 
-#include <cmath>
-#include <cstring>
-#include <chrono>
-#include <cstdlib>
 #include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
 #include <map>
 #include <string>
 
-#include "codec/embed.h"
-#include "codec/embedding_mesh.h"
-#include "codec/geometry2d.h"
-#include "codec/seam_continuity.h"
-#include "codec/shapes.h"
-#include "codec/source_charts.h"
-#include "codec/texel_density.h"
-#include "codec/topology.h"
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
+#include "codec/core/geometry2d.h"
+#include "codec/core/topology.h"
+#include "codec/decode/embedding_mesh.h"
+#include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/encode/partition/source_charts.h"
+#include "codec/encode/texture/seam_continuity.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {
@@ -267,7 +267,6 @@ double worst_patch_density_ratio(const Embedding& e, const std::vector<double>& 
   return worst;
 }
 
-
 // A plane whose source UVs give its right half 16x the texel density of its
 // left half: without densities it is one patch; with them no patch spans
 // the jump. A jump within the ratio (1.5x) still gives one patch.
@@ -408,7 +407,8 @@ TEST(Embed, HolesBelowTheDensityRangeAreAbsorbed) {
   cx /= double(m.positions.size() / 3), cy /= double(m.positions.size() / 3);
   for (uint32_t f = 0; f < m.face_count(); ++f) {
     double x = 0, y = 0;
-    for (int k = 0; k < 3; ++k) x += m.positions[3 * m.indices[3 * f + k]], y += m.positions[3 * m.indices[3 * f + k] + 1];
+    for (int k = 0; k < 3; ++k)
+      x += m.positions[3 * m.indices[3 * f + k]], y += m.positions[3 * m.indices[3 * f + k] + 1];
     const double d = (x / 3 - cx) * (x / 3 - cx) + (y / 3 - cy) * (y / 3 - cy);
     if (d < best) best = d, mid = f;
   }
@@ -512,10 +512,11 @@ Figures figures_of(const std::vector<TriMesh>& meshes, PartitionMode mode, doubl
 }
 
 void print_row(const std::string& name, const Figures& g, const Figures& c) {
-  std::printf("%-18s F=%7u | greedy P=%5u seams=%6u fill=%.2f holes=%3u %.2fs | compact P=%5u seams=%6u "
-              "fill=%.2f holes=%3u %.2fs | ratio %.2f\n",
-              name.c_str(), g.faces, g.patches, g.seams, g.fill(), g.holes, g.seconds, c.patches, c.seams,
-              c.fill(), c.holes, c.seconds, g.seams ? double(c.seams) / g.seams : 0.0);
+  std::printf(
+      "%-18s F=%7u | greedy P=%5u seams=%6u fill=%.2f holes=%3u %.2fs | compact P=%5u seams=%6u "
+      "fill=%.2f holes=%3u %.2fs | ratio %.2f\n",
+      name.c_str(), g.faces, g.patches, g.seams, g.fill(), g.holes, g.seconds, c.patches, c.seams, c.fill(),
+      c.holes, c.seconds, g.seams ? double(c.seams) / g.seams : 0.0);
 }
 
 // Issue 8 on the corpus models the design names, all primitives with
@@ -534,7 +535,8 @@ TEST(EmbedCorpus, CompactAgainstGreedy) {
     double max_seam_ratio, min_fill;
     uint32_t max_holes;
   };
-  const Target targets[] = {{"Duck", 0.70, 0.60, 0}, {"Fox", 0.90, 0.55, 0}, {"CesiumMilkTruck", 1.10, 0.48, 2}};
+  const Target targets[] = {
+      {"Duck", 0.70, 0.60, 0}, {"Fox", 0.90, 0.55, 0}, {"CesiumMilkTruck", 1.10, 0.48, 2}};
   const auto models = test::corpus_models();
   for (const Target& t : targets) {
     SCOPED_TRACE(t.name);

@@ -1,10 +1,10 @@
-// Exact predicates, hull and min-area rectangle (codec/geometry2d.h).
+// Exact predicates, hull and min-area rectangle (codec/core/geometry2d.h).
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "codec/geometry2d.h"
+#include "codec/core/geometry2d.h"
 
 namespace gltfwarp {
 namespace {

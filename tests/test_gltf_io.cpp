@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "format/gltf_io.h"
+#include "format/gltf/gltf_io.h"
 #include "support/corpus.h"
 
 using namespace gltfwarp;
@@ -45,7 +45,8 @@ TEST(GltfIo, WritesGlbAndGltfThatReadBackTheSame) {
       EXPECT_EQ(back.images.size(), images);
       EXPECT_EQ(back.nodes.size(), nodes);
       EXPECT_EQ(back.animations.size(), anims);
-      for (size_t i = 0; i < images; ++i) EXPECT_EQ(back.images[i].image.size(), image_bytes[i]) << "image " << i;
+      for (size_t i = 0; i < images; ++i)
+        EXPECT_EQ(back.images[i].image.size(), image_bytes[i]) << "image " << i;
     }
   }
 }

@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "codec/image_io.h"
+#include "codec/encode/texture/image_io.h"
 
 namespace gltfwarp {
 namespace {

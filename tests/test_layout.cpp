@@ -1,4 +1,4 @@
-// The shared layout replay (codec/layout.h): validation of untrusted
+// The shared layout replay (codec/core/layout.h): validation of untrusted
 // partitions, determinism pinned by a golden hash, and basic geometry.
 #include <gtest/gtest.h>
 
@@ -6,8 +6,8 @@
 #include <cstring>
 #include <random>
 
-#include "codec/layout.h"
-#include "codec/shapes.h"
+#include "codec/core/layout.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {

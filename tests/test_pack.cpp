@@ -2,12 +2,12 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <random>
 
-#include "codec/pack.h"
-#include "codec/texel_density.h"
+#include "codec/encode/atlas/pack.h"
+#include "codec/encode/atlas/texel_density.h"
 
 namespace gltfwarp {
 namespace {
@@ -23,13 +23,11 @@ struct GenPrim {
   }
 };
 
-void add_tri(GenPrim& g, uint32_t patch, double ax, double ay, double bx, double by, double cx,
-             double cy) {
+void add_tri(GenPrim& g, uint32_t patch, double ax, double ay, double bx, double by, double cx, double cy) {
   const double xy[6] = {ax, ay, bx, by, cx, cy};
   for (int v = 0; v < 3; ++v) {
     g.mesh.indices.push_back(g.mesh.vertex_count());
-    g.mesh.positions.insert(g.mesh.positions.end(),
-                            {float(xy[2 * v]), float(xy[2 * v + 1]), 0.0f});
+    g.mesh.positions.insert(g.mesh.positions.end(), {float(xy[2 * v]), float(xy[2 * v + 1]), 0.0f});
     g.corner_xy.push_back(xy[2 * v]);
     g.corner_xy.push_back(xy[2 * v + 1]);
   }
@@ -94,8 +92,7 @@ GenPrim generate(uint32_t patches, uint32_t seed, double size = 10.0, bool lshap
 // Conservative footprint of every patch at its final placement; checks that
 // no texel belongs to two patches, every footprint is inside its page, and
 // different patches stay `gutter` empty texels apart.
-void check_footprints(std::span<const PackPrimitive> prims, const PackResult& res,
-                      uint32_t gutter) {
+void check_footprints(std::span<const PackPrimitive> prims, const PackResult& res, uint32_t gutter) {
   const uint32_t w = res.report.atlas_width, h = res.report.atlas_height;
   for (uint32_t page = 0; page < res.report.page_count; ++page) {
     std::vector<int32_t> owner(size_t(w) * h, -1);
@@ -179,8 +176,8 @@ TEST(Pack, NoOverlapGutterInsideAndFill) {
   ASSERT_EQ(res.maps.size(), 2u);
   EXPECT_EQ(res.maps[1].placements.size(), 40u);
   check_footprints(prims, res, opt.gutter);
-  std::printf("fill %.3f atlas %ux%u covered %llu, %.1f ms\n", r.fill, r.atlas_width,
-              r.atlas_height, (unsigned long long)r.covered_texels, r.seconds * 1e3);
+  std::printf("fill %.3f atlas %ux%u covered %llu, %.1f ms\n", r.fill, r.atlas_width, r.atlas_height,
+              (unsigned long long)r.covered_texels, r.seconds * 1e3);
   EXPECT_GT(r.fill, 0.6);
 }
 
@@ -201,8 +198,8 @@ TEST(Pack, TrueShapesBeatRectanglesAndSkyline) {
     EXPECT_EQ(r->report.outside_texels, 0u);
     check_footprints(prims, *r, opt.gutter);
   }
-  std::printf("fill: true shapes %.3f, skyline %.3f, rectangles %.3f\n", shapes.report.fill,
-              sky.report.fill, rects.report.fill);
+  std::printf("fill: true shapes %.3f, skyline %.3f, rectangles %.3f\n", shapes.report.fill, sky.report.fill,
+              rects.report.fill);
   EXPECT_GT(shapes.report.fill, rects.report.fill + 0.04);
   EXPECT_GT(shapes.report.fill, sky.report.fill);
 }

@@ -4,29 +4,29 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <map>
-#include <cmath>
 #include <numeric>
 #include <set>
 
-#include "codec/embed.h"
-#include "codec/image_io.h"
-#include "codec/encoder.h"
-#include "codec/implicit_uv_encoder.h"
-#include "codec/pack.h"
-#include "codec/pages.h"
-#include "codec/sample_model.h"
-#include "codec/shapes.h"
-#include "codec/surface_compare.h"
-#include "codec/texel_density.h"
-#include "format/extension.h"
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
+#include "codec/encode/atlas/pack.h"
+#include "codec/encode/atlas/pages.h"
+#include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/encoder.h"
+#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/surface_compare.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/malformed.h"
+#include "tests/support/testing/sample_model.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {
@@ -72,8 +72,7 @@ TEST(Pages, FacesSplitAlongChartsWhileTheyFit) {
   // Each shape fits one part: no shape is cut.
   auto part = split_faces_into_parts(both.mesh, texels, double(faces), true, parts);
   EXPECT_EQ(parts, 1u);
-  part = split_faces_into_parts(both.mesh, texels,
-                                double(std::max(fa, faces - fa)), true, parts);
+  part = split_faces_into_parts(both.mesh, texels, double(std::max(fa, faces - fa)), true, parts);
   EXPECT_EQ(parts, 2u);
   for (size_t f = 0; f < faces; ++f) EXPECT_EQ(part[f], f < fa ? part[0] : part[faces - 1]) << f;
   // Too large for a part: halves, each within the capacity.
@@ -111,9 +110,11 @@ TEST(Pages, EstimatedTexelsMatchThePacker) {
   const Partitioned p = partitioned_sphere();
   ASSERT_EQ(p.er.status, LayoutStatus::ok);
   for (const double factor : {0.5, 1.0, 2.0}) {
-    const auto patch = estimated_patch_texels(p.er.corner_xy, p.er.patch_of_face, p.er.patch_count, p.density, factor);
+    const auto patch =
+        estimated_patch_texels(p.er.corner_xy, p.er.patch_of_face, p.er.patch_count, p.density, factor);
     const double estimate = std::accumulate(patch.begin(), patch.end(), 0.0);
-    PackPrimitive pp{&p.shape.mesh, p.er.patch_of_face, p.er.patch_count, p.er.corner_xy, p.density, {}, p.er.seeds};
+    PackPrimitive pp{&p.shape.mesh, p.er.patch_of_face, p.er.patch_count, p.er.corner_xy, p.density, {},
+                     p.er.seeds};
     // The reference as the encoder sets it, near the faces' own densities
     // (the packer clamps each patch's scale to 1/16..8 times it).
     double sum = 0;
@@ -134,7 +135,8 @@ TEST(Pages, PartsOfPatchesStayWithinAPage) {
   const Partitioned p = partitioned_sphere();
   ASSERT_EQ(p.er.status, LayoutStatus::ok);
   ASSERT_GT(p.er.patch_count, 4u);
-  const auto texels = estimated_patch_texels(p.er.corner_xy, p.er.patch_of_face, p.er.patch_count, p.density, 1.0);
+  const auto texels =
+      estimated_patch_texels(p.er.corner_xy, p.er.patch_of_face, p.er.patch_count, p.density, 1.0);
   const double total = std::accumulate(texels.begin(), texels.end(), 0.0);
   const double largest = *std::max_element(texels.begin(), texels.end());
   const double capacity = std::max(total / 5, largest);
@@ -165,7 +167,8 @@ void triangles_and_area(const tinygltf::Model& m, size_t& tris, double& area) {
     for (size_t f = 0; f < g.triangles.size() / 3; ++f) {
       double e[2][3];
       for (int k = 0; k < 2; ++k)
-        for (int i = 0; i < 3; ++i) e[k][i] = pos->get(g.triangles[3 * f + k + 1], i) - pos->get(g.triangles[3 * f], i);
+        for (int i = 0; i < 3; ++i)
+          e[k][i] = pos->get(g.triangles[3 * f + k + 1], i) - pos->get(g.triangles[3 * f], i);
       area += 0.5 * std::hypot(e[0][1] * e[1][2] - e[0][2] * e[1][1], e[0][2] * e[1][0] - e[0][0] * e[1][2],
                                e[0][0] * e[1][1] - e[0][1] * e[1][0]);
     }
@@ -184,9 +187,13 @@ void check_pages(const std::string& name, const std::string& src, int max_size, 
   const std::string enc = dir + "/enc.glb", dec = dir + "/dec.glb";
   std::string out;
   ASSERT_EQ(test::run_command(std::string(GLTFWARP_CLI) + " encode " + extra_args + " --max-atlas-size " +
-                                  std::to_string(max_size) + " '" + src + "' -o " + enc + " 2>&1", &out), 0) << out;
+                                  std::to_string(max_size) + " '" + src + "' -o " + enc + " 2>&1",
+                              &out),
+            0)
+      << out;
   EXPECT_NE(out.find("cut into"), std::string::npos) << out;
-  ASSERT_EQ(test::run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0)
+  ASSERT_EQ(test::run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out),
+            0)
       << out;
   tinygltf::Model sm, em, dm;
   ASSERT_TRUE(read_gltf(src, sm).ok);
@@ -326,8 +333,7 @@ TEST(Pages, CutIsUndoneWhenEveryPartFallsBack) {
 // notes that name later primitives of that mesh move down with them.
 TEST(Pages, UndoneCutRenumbersLaterPrimitivesInNotes) {
   tinygltf::Model m = test::empty_scene();
-  const int mat = test::add_material(
-      m, test::add_texture(m, test::add_png_image(m, 16)));
+  const int mat = test::add_material(m, test::add_texture(m, test::add_png_image(m, 16)));
   // [0] A, cut, fell back; [1] B; [2] A's part, fell back; [3] B's part.
   for (int i = 0; i < 4; ++i) test::add_primitive(m, test::grid_mesh(3, 3, float(4 * i), 0), mat);
   ImplicitPlan plan;
@@ -345,14 +351,16 @@ TEST(Pages, UndoneCutRenumbersLaterPrimitivesInNotes) {
     pr.handling = p % 2 == 0 ? "fallback: explicit UVs kept (test)" : "implicit-uv";
     report.primitives.push_back(pr);
   }
-  report.notes = {"mesh 0 primitive 0 cut into 2 primitives", "mesh 0 primitive 2: fallback: explicit UVs kept (test)",
+  report.notes = {"mesh 0 primitive 0 cut into 2 primitives",
+                  "mesh 0 primitive 2: fallback: explicit UVs kept (test)",
                   "mesh 0 primitive 3: a note on B's part", "mesh 1 primitive 3: another mesh",
                   "mesh 0 primitive 1: a note on B"};
   EncodeOptions o;
   std::vector<int> replaced;
   ASSERT_EQ(undo_fallen_back_cuts(m, plan, o, replaced, report), "");
   EXPECT_EQ(m.meshes[0].primitives.size(), 3u);
-  const std::vector<std::string> want = {"mesh 0 primitive 2: a note on B's part", "mesh 1 primitive 3: another mesh",
+  const std::vector<std::string> want = {"mesh 0 primitive 2: a note on B's part",
+                                         "mesh 1 primitive 3: another mesh",
                                          "mesh 0 primitive 1: a note on B"};
   EXPECT_EQ(report.notes, want);
   ASSERT_EQ(report.primitives.size(), 3u);

@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
-#include "codec/image_io.h"
-#include "codec/png_palette.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/png_palette.h"
 
 namespace gltfwarp {
 namespace {
@@ -17,13 +17,14 @@ OIIO::ImageBuf rgb_image(int w, int h, const std::vector<PaletteEntry>& colours,
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const PaletteEntry& c = colours[size_t(x / 4 + y) % colours.size()];
-      for (int k = 0; k < 3; ++k) p[(size_t(y) * w + x) * 3 + k] = uint8_t(std::clamp(c[k] + (x % 3 - 1) * jitter, 0, 255));
+      for (int k = 0; k < 3; ++k)
+        p[(size_t(y) * w + x) * 3 + k] = uint8_t(std::clamp(c[k] + (x % 3 - 1) * jitter, 0, 255));
     }
   return buf;
 }
 
-const std::vector<PaletteEntry> kPalette = {{0, 0, 0, 255}, {250, 10, 10, 255}, {10, 200, 30, 255},
-                                            {40, 40, 220, 255}, {255, 255, 255, 255}};
+const std::vector<PaletteEntry> kPalette = {
+    {0, 0, 0, 255}, {250, 10, 10, 255}, {10, 200, 30, 255}, {40, 40, 220, 255}, {255, 255, 255, 255}};
 
 TEST(PngPalette, IndexedRoundTripKeepsThePaletteAndSnapsToNearest) {
   // Texels a few steps off their colour come back as exactly that colour.
@@ -91,7 +92,8 @@ TEST(PngPalette, FlatArtGivesItsMostFrequentColoursAndGradientsNone) {
   OIIO::ImageBuf ramp(OIIO::ImageSpec(256, 64, 3, OIIO::TypeDesc::UINT8));  // 16,384 colours, one texel each
   auto* r = static_cast<uint8_t*>(ramp.localpixels());
   for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 256; ++x) r[(size_t(y) * 256 + x) * 3] = uint8_t(x), r[(size_t(y) * 256 + x) * 3 + 1] = uint8_t(y * 4);
+    for (int x = 0; x < 256; ++x)
+      r[(size_t(y) * 256 + x) * 3] = uint8_t(x), r[(size_t(y) * 256 + x) * 3 + 1] = uint8_t(y * 4);
   EXPECT_TRUE(dominant_colours(ramp).empty());
   EXPECT_TRUE(dominant_colours(OIIO::ImageBuf()).empty());
 }
@@ -101,8 +103,9 @@ TEST(PngPalette, SnappedImageIsExactlyWhatTheIndexedPngDecodesTo) {
   snap_to_palette(img, kPalette);
   const auto* s = static_cast<const uint8_t*>(img.localpixels());
   for (size_t i = 0; i < size_t(41) * 23; ++i)
-    EXPECT_TRUE(std::any_of(kPalette.begin(), kPalette.end(),
-                            [&](const PaletteEntry& e) { return std::equal(e.begin(), e.begin() + 3, s + 3 * i); }))
+    EXPECT_TRUE(
+        std::any_of(kPalette.begin(), kPalette.end(),
+                    [&](const PaletteEntry& e) { return std::equal(e.begin(), e.begin() + 3, s + 3 * i); }))
         << "texel " << i << " is not a palette colour";
   std::vector<uint8_t> bytes;
   ASSERT_EQ(encode_indexed_png(img, kPalette, bytes), "");

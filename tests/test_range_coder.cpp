@@ -1,11 +1,11 @@
-// Adaptive binary range coder (format/range_coder.h): round trips, bounds,
+// Adaptive binary range coder (format/bitstream/range_coder.h): round trips, bounds,
 // compression efficiency, and safe behaviour on truncated / garbage input.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <random>
 
-#include "format/range_coder.h"
+#include "format/bitstream/range_coder.h"
 
 using namespace gltfwarp::rc;
 
@@ -23,12 +23,26 @@ std::vector<Symbol> random_symbols(std::mt19937& rng, size_t count) {
   for (size_t i = 0; i < count; ++i) {
     Symbol x{static_cast<int>(rng() % 6), 0, 0, static_cast<uint32_t>(rng() % 4)};
     switch (x.kind) {
-      case 0: x.v = (rng() % 10) < x.ctx + 1 ? 1 : 0; break;
-      case 1: x.v = rng() & 1; break;
-      case 2: x.n = 1 + rng() % kMaxUniform; x.v = static_cast<uint32_t>(rng() % x.n); break;
-      case 3: x.n = 1 + uint64_t{rng()}; x.v = static_cast<uint32_t>(uint64_t{rng()} % x.n); break;
-      case 4: x.v = rng() % 32; break;
-      default: x.v = (rng() % 8 == 0) ? rng() : rng() % 20; break;
+      case 0:
+        x.v = (rng() % 10) < x.ctx + 1 ? 1 : 0;
+        break;
+      case 1:
+        x.v = rng() & 1;
+        break;
+      case 2:
+        x.n = 1 + rng() % kMaxUniform;
+        x.v = static_cast<uint32_t>(rng() % x.n);
+        break;
+      case 3:
+        x.n = 1 + uint64_t{rng()};
+        x.v = static_cast<uint32_t>(uint64_t{rng()} % x.n);
+        break;
+      case 4:
+        x.v = rng() % 32;
+        break;
+      default:
+        x.v = (rng() % 8 == 0) ? rng() : rng() % 20;
+        break;
     }
     s.push_back(x);
   }
@@ -46,12 +60,24 @@ std::vector<uint8_t> encode(const std::vector<Symbol>& syms) {
   Models m;
   for (const Symbol& s : syms) {
     switch (s.kind) {
-      case 0: e.bit(m.bits[s.ctx], s.v); break;
-      case 1: e.equiprobable(s.v); break;
-      case 2: e.uniform(s.v, static_cast<uint32_t>(s.n)); break;
-      case 3: e.uniform32(s.v, s.n); break;
-      case 4: e.tree(m.tree, 5, s.v); break;
-      default: e.exp_golomb(m.eg, s.v); break;
+      case 0:
+        e.bit(m.bits[s.ctx], s.v);
+        break;
+      case 1:
+        e.equiprobable(s.v);
+        break;
+      case 2:
+        e.uniform(s.v, static_cast<uint32_t>(s.n));
+        break;
+      case 3:
+        e.uniform32(s.v, s.n);
+        break;
+      case 4:
+        e.tree(m.tree, 5, s.v);
+        break;
+      default:
+        e.exp_golomb(m.eg, s.v);
+        break;
     }
   }
   return e.finish();
@@ -64,12 +90,24 @@ bool decode_matches(std::span<const uint8_t> bytes, const std::vector<Symbol>& s
   for (const Symbol& s : syms) {
     uint32_t v = 0;
     switch (s.kind) {
-      case 0: v = d.bit(m.bits[s.ctx]); break;
-      case 1: v = d.equiprobable(); break;
-      case 2: v = d.uniform(static_cast<uint32_t>(s.n)); break;
-      case 3: v = d.uniform32(s.n); break;
-      case 4: v = d.tree(m.tree, 5); break;
-      default: v = d.exp_golomb(m.eg); break;
+      case 0:
+        v = d.bit(m.bits[s.ctx]);
+        break;
+      case 1:
+        v = d.equiprobable();
+        break;
+      case 2:
+        v = d.uniform(static_cast<uint32_t>(s.n));
+        break;
+      case 3:
+        v = d.uniform32(s.n);
+        break;
+      case 4:
+        v = d.tree(m.tree, 5);
+        break;
+      default:
+        v = d.exp_golomb(m.eg);
+        break;
     }
     if (v != s.v || d.failed()) return false;
   }

@@ -7,8 +7,8 @@
 // explicit UVs, for quality or for size (those fallbacks have their own tests
 // in test_roundtrip and test_warp_quality).
 #include <cmath>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <random>
@@ -17,8 +17,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "format/gltf_io.h"
-#include "format/gltf_primitive.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/malformed.h"
 
@@ -43,8 +43,9 @@ CliRun run_cli(const std::string& args, int timeout_s = 120) {
   static int counter = 0;
   const std::string err_file = scratch_dir("cli-stderr-" + std::to_string(counter++)) + "/err.txt";
   CliRun r;
-  r.code = run_command("timeout -k 5 " + std::to_string(timeout_s) + " " + cli() + " " + args + " 2>" + quote(err_file),
-                       &r.out);
+  r.code = run_command(
+      "timeout -k 5 " + std::to_string(timeout_s) + " " + cli() + " " + args + " 2>" + quote(err_file),
+      &r.out);
   r.err = read_file(err_file);
   fs::remove_all(fs::path(err_file).parent_path());
   return r;
@@ -77,7 +78,8 @@ void expect_validator_clean_as(const std::string& path, const ValidatorResult& s
   const ValidatorResult r = validate(path);
   ASSERT_TRUE(r.ran) << r.raw;
   const auto before = error_codes(source), after = error_codes(r);
-  for (const auto& c : after) EXPECT_TRUE(before.count(c)) << path << ": new validator error " << c << "\n" << r.raw;
+  for (const auto& c : after)
+    EXPECT_TRUE(before.count(c)) << path << ": new validator error " << c << "\n" << r.raw;
 }
 
 // Rewrites a .gltf (with its .bin beside it) so that buffers and images are data URIs.
@@ -116,7 +118,8 @@ Pair plain_and_encoded(const std::string& dir) {
   tinygltf::Model m = empty_scene();
   add_primitive(m, grid_mesh(8, 6), add_material(m, add_texture(m, add_png_image(m, 64))));
   EXPECT_EQ(write_gltf(m, p.plain), "");
-  const CliRun r = run_cli("encode -q --min-psnr 0 --always-implicit " + quote(p.plain) + " -o " + quote(p.encoded));
+  const CliRun r =
+      run_cli("encode -q --min-psnr 0 --always-implicit " + quote(p.plain) + " -o " + quote(p.encoded));
   EXPECT_EQ(r.code, 0) << r.err;
   return p;
 }
@@ -170,7 +173,8 @@ TEST(Robustness, VariedModelsRoundTrip) {
     expect_validator_clean_as(dec, source);
     // Decoded output is a plain glTF: encoding it again works too.
     if (fast()) continue;
-    r = run_cli("encode -q --min-psnr 0 --always-implicit " + quote(dec) + " -o " + quote(dir + "/" + v.name + ".again.glb"));
+    r = run_cli("encode -q --min-psnr 0 --always-implicit " + quote(dec) + " -o " +
+                quote(dir + "/" + v.name + ".again.glb"));
     expect_clean(r, "re-encode " + v.name);
     EXPECT_EQ(r.code, 0) << r.err;
   }
@@ -181,7 +185,8 @@ TEST(Robustness, DracoInputEncodesToo) {
   tinygltf::Model m = empty_scene();
   add_primitive(m, grid_mesh(8, 8), add_material(m, add_texture(m, add_png_image(m, 64))));
   ASSERT_EQ(write_gltf(m, dir + "/src.glb"), "");
-  CliRun r = run_cli("encode -q --explicit-uvs " + quote(dir + "/src.glb") + " -o " + quote(dir + "/draco.glb"));
+  CliRun r =
+      run_cli("encode -q --explicit-uvs " + quote(dir + "/src.glb") + " -o " + quote(dir + "/draco.glb"));
   ASSERT_EQ(r.code, 0) << r.err;
   tinygltf::Model draco;
   ASSERT_TRUE(read_gltf(dir + "/draco.glb", draco).ok);
@@ -190,12 +195,14 @@ TEST(Robustness, DracoInputEncodesToo) {
   for (const std::string geometry : {"draco", "raw"}) {
     SCOPED_TRACE(geometry);
     const std::string out = dir + "/enc-" + geometry + ".glb";
-    r = run_cli("encode -q --min-psnr 0 --always-implicit --geometry " + geometry + " " + quote(dir + "/draco.glb") + " -o " + quote(out));
+    r = run_cli("encode -q --min-psnr 0 --always-implicit --geometry " + geometry + " " +
+                quote(dir + "/draco.glb") + " -o " + quote(out));
     ASSERT_EQ(r.code, 0) << r.err;
     tinygltf::Model enc;
     ASSERT_TRUE(read_gltf(out, enc).ok);
     EXPECT_TRUE(any_implicit(enc));
-    const bool uses_draco = std::count(enc.extensionsUsed.begin(), enc.extensionsUsed.end(), kDracoExtension) > 0;
+    const bool uses_draco =
+        std::count(enc.extensionsUsed.begin(), enc.extensionsUsed.end(), kDracoExtension) > 0;
     EXPECT_EQ(uses_draco, geometry == "draco") << "KHR_draco_mesh_compression declared only when used";
     expect_validator_clean_as(out, validate(dir + "/draco.glb"));
     r = run_cli("decode -q " + quote(out) + " -o " + quote(dir + "/dec-" + geometry + ".gltf"));
@@ -252,9 +259,10 @@ TEST(Robustness, MalformedFilesFailCleanly) {
 TEST(Robustness, ReaderRefusesBeforeAllocating) {
   // A 100-byte file declaring a 2^28-element MAT4 accessor (16 GiB) must be
   // refused by size, not by running out of memory.
-  const std::string json = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":96,"uri":"data:application/octet-stream;base64,)" +
-                           base64(std::string(96, '\0')) +
-                           R"("}],"bufferViews":[{"buffer":0,"byteLength":96}],"accessors":[{"bufferView":0,"componentType":5126,"type":"MAT4","count":268435456}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]})";
+  const std::string json =
+      R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":96,"uri":"data:application/octet-stream;base64,)" +
+      base64(std::string(96, '\0')) +
+      R"("}],"bufferViews":[{"buffer":0,"byteLength":96}],"accessors":[{"bufferView":0,"componentType":5126,"type":"MAT4","count":268435456}],"meshes":[{"primitives":[{"attributes":{"POSITION":0}}]}]})";
   tinygltf::Model m;
   const auto r = read_gltf_memory(reinterpret_cast<const uint8_t*>(json.data()), json.size(), m);
   ASSERT_TRUE(r.ok) << r.error;
@@ -301,7 +309,8 @@ TEST(Robustness, CorruptionSweep) {
     b[at] = static_cast<char>(b[at] ^ mask);
     variants.push_back({"flip-" + std::to_string(at) + "-" + std::to_string(mask), b});
   };
-  for (int i = 0; i < 20 * scale; ++i) variants.push_back({"trunc-" + std::to_string(i), bytes.substr(0, rng() % bytes.size())});
+  for (int i = 0; i < 20 * scale; ++i)
+    variants.push_back({"trunc-" + std::to_string(i), bytes.substr(0, rng() % bytes.size())});
   for (int i = 0; i < 15 * scale; ++i) flip(rng() % bytes.size(), static_cast<uint8_t>(1u << (rng() % 8)));
   for (const auto& [start, len] : regions)
     for (int i = 0; i < 25 * scale; ++i) flip(start + rng() % len, static_cast<uint8_t>(1 + rng() % 255));
@@ -315,7 +324,8 @@ TEST(Robustness, CorruptionSweep) {
     b[at] = static_cast<char>('0' + rng() % 10);
     variants.push_back({"digit-" + std::to_string(at), b});
   }
-  for (int i = 0; i < 5 * scale; ++i) flip(json_start + rng() % json_len, static_cast<uint8_t>(1 + rng() % 255));
+  for (int i = 0; i < 5 * scale; ++i)
+    flip(json_start + rng() % json_len, static_cast<uint8_t>(1 + rng() % 255));
   EXPECT_GE(variants.size(), fast() ? 100u : 300u);
 
   int failures = 0;
@@ -329,7 +339,8 @@ TEST(Robustness, CorruptionSweep) {
     if (r.code != 0) {
       ++failures;
       EXPECT_FALSE(fs::exists(out)) << "partial output";
-      if (r.code >= 128 || r.code < 0) write_file(dir + "/crash-" + variants[i].name + ".glb", variants[i].bytes);
+      if (r.code >= 128 || r.code < 0)
+        write_file(dir + "/crash-" + variants[i].name + ".glb", variants[i].bytes);
     }
   }
   EXPECT_GT(failures, 0);

@@ -10,16 +10,16 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "codec/encoder.h"
-#include "codec/image_io.h"
-#include "codec/sample_model.h"
-#include "codec/surface_compare.h"
-#include "format/extension.h"
-#include "format/gltf_io.h"
-#include "format/gltf_materials.h"
-#include "format/gltf_primitive.h"
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/surface_compare.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/malformed.h"
+#include "tests/support/testing/sample_model.h"
 
 namespace fs = std::filesystem;
 using namespace gltfwarp;
@@ -46,7 +46,14 @@ Counts counts_of(const std::string& path) {
   tinygltf::Model m;
   auto r = read_gltf(path, m);
   EXPECT_TRUE(r.ok) << r.error;
-  Counts c{m.nodes.size(), m.meshes.size(), m.animations.size(), m.skins.size(), m.cameras.size(), m.scenes.size(), {}, {}};
+  Counts c{m.nodes.size(),
+           m.meshes.size(),
+           m.animations.size(),
+           m.skins.size(),
+           m.cameras.size(),
+           m.scenes.size(),
+           {},
+           {}};
   for (const auto& mesh : m.meshes) {
     c.attributes.emplace_back();
     c.triangles.emplace_back();
@@ -67,7 +74,8 @@ Counts counts_of(const std::string& path) {
               for (int i = 0; i < 3; ++i) p[k][i] = pos->get(g.triangles[3 * f + k], i);
             const double a[3] = {p[1][0] - p[0][0], p[1][1] - p[0][1], p[1][2] - p[0][2]};
             const double b[3] = {p[2][0] - p[0][0], p[2][1] - p[0][1], p[2][2] - p[0][2]};
-            const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+            const double n[3] = {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2],
+                                 a[0] * b[1] - a[1] * b[0]};
             c.area += 0.5 * std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
           }
       }
@@ -77,15 +85,50 @@ Counts counts_of(const std::string& path) {
   return c;
 }
 
+// The primitives (mesh, primitive) of each corpus model that carry the
+// implicit map with the default options. A model that loses one of them to
+// explicit UVs fails the round trip: without this, the encoder's fallback
+// would let every size and quality check pass with the method switched off.
+// A model may gain primitives (the test prints what it got).
+const std::map<std::string, std::set<std::pair<int, int>>>& expected_implicit_primitives() {
+  static const std::map<std::string, std::set<std::pair<int, int>>> expected = {
+      {"CesiumMilkTruck", {{0, 0}, {1, 0}}},
+      {"Duck", {{0, 0}}},
+      {"Duck-glb", {{0, 0}}},
+      {"Fox", {{0, 0}}},
+      {"MultiUVTest", {{0, 0}}},
+      {"SphereWithCircleTexture", {{0, 0}}},
+      {"TextureSettingsTest", {}},  // tiny quads with large images: explicit UVs are smaller
+      {"TextureTransformTest", {{6, 0}, {7, 0}, {8, 0}}},
+      {"TwoSidedPlane", {{0, 0}}},
+      {"VertexColorTest", {}},  // 1-texel text cannot keep the quality floor
+  };
+  return expected;
+}
+
+std::set<std::pair<int, int>> implicit_primitives(const tinygltf::Model& m) {
+  std::set<std::pair<int, int>> out;
+  for (size_t i = 0; i < m.meshes.size(); ++i)
+    for (size_t j = 0; j < m.meshes[i].primitives.size(); ++j)
+      if (m.meshes[i].primitives[j].extensions.count(ext::kName)) out.insert({int(i), int(j)});
+  return out;
+}
+
 // encoded_bytes, if given, receives the encoded file's size.
+// implicit_out, if given, receives the implicit-map primitives of the encoded file.
 void check_round_trip(const std::string& name, const std::string& src, const std::string& extra_args = "",
-                      uintmax_t* encoded_bytes = nullptr) {
+                      uintmax_t* encoded_bytes = nullptr,
+                      std::set<std::pair<int, int>>* implicit_out = nullptr) {
   const std::string dir = scratch_dir("roundtrip-" + name);
   const std::string enc = dir + "/enc.glb", dec = dir + "/dec.gltf";
   std::string out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q " + extra_args + " '" + src + "' -o " + enc + " 2>&1", &out), 0)
+  ASSERT_EQ(run_command(
+                std::string(GLTFWARP_CLI) + " encode -q " + extra_args + " '" + src + "' -o " + enc + " 2>&1",
+                &out),
+            0)
       << out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0)
+      << out;
   if (encoded_bytes) *encoded_bytes = fs::file_size(enc);
 
   const Counts a = counts_of(src), d = counts_of(dec);
@@ -102,14 +145,17 @@ void check_round_trip(const std::string& name, const std::string& src, const std
   // The encoded file really uses our extension where textures sample TEXCOORD_0.
   tinygltf::Model em;
   ASSERT_TRUE(read_gltf(enc, em).ok);
+  if (implicit_out) *implicit_out = implicit_primitives(em);
   const ValidatorResult vs = validate(src), ve = validate(enc), vd = validate(dec);
   if (!vs.ran) {
     if (on_ci()) FAIL() << "gltf-validator is not installed (run scripts/install-deps)";
     GTEST_SKIP() << "gltf-validator not installed";
   }
   const auto allowed = error_codes(vs);
-  for (const auto& code : error_codes(ve)) EXPECT_TRUE(allowed.count(code)) << "encoded file has new error " << code << ": " << ve.raw;
-  for (const auto& code : error_codes(vd)) EXPECT_TRUE(allowed.count(code)) << "decoded file has new error " << code << ": " << vd.raw;
+  for (const auto& code : error_codes(ve))
+    EXPECT_TRUE(allowed.count(code)) << "encoded file has new error " << code << ": " << ve.raw;
+  for (const auto& code : error_codes(vd))
+    EXPECT_TRUE(allowed.count(code)) << "decoded file has new error " << code << ": " << vd.raw;
   EXPECT_GE(ve.errors, 0) << ve.raw;
   EXPECT_GE(vd.errors, 0) << vd.raw;
 
@@ -134,7 +180,8 @@ std::string corpus_path(const std::string& name) {
 
 // Encodes the corpus model `name` in process; its report must hold exactly
 // one atlas (the models these tests use have one textured material).
-::testing::AssertionResult encode_corpus(const std::string& name, const EncodeOptions& options, EncodeReport& report) {
+::testing::AssertionResult encode_corpus(const std::string& name, const EncodeOptions& options,
+                                         EncodeReport& report) {
   const std::string path = corpus_path(name);
   if (path.empty()) return ::testing::AssertionFailure() << name << " is not in the corpus";
   tinygltf::Model model;
@@ -159,7 +206,13 @@ TEST(CorpusRoundTrip, EveryModelRoundTrips) {
   for (const auto& m : corpus_models()) {
     SCOPED_TRACE(m.name);
     uintmax_t ours = 0;
-    check_round_trip(m.name, m.path, "", &ours);
+    std::set<std::pair<int, int>> got;
+    check_round_trip(m.name, m.path, "", &ours, &got);
+    std::printf("%s: %zu primitives with the implicit map\n", m.name.c_str(), got.size());
+    ASSERT_TRUE(expected_implicit_primitives().count(m.name)) << "add " << m.name << " to the expectations";
+    for (const auto& [mesh, prim] : expected_implicit_primitives().at(m.name))
+      EXPECT_TRUE(got.count({mesh, prim}))
+          << m.name << " mesh " << mesh << " primitive " << prim << " no longer uses the implicit map";
     // The method exists to save bytes: the encoder keeps explicit UVs for any
     // atlas group that would cost more, so no file is larger than the same
     // model with explicit UVs (Draco-12) and its own images, beyond the
@@ -167,9 +220,13 @@ TEST(CorpusRoundTrip, EveryModelRoundTrips) {
     const std::string dir = scratch_dir("explicit-" + m.name);
     std::string out;
     ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q --explicit-uvs '" + m.path + "' -o " + dir +
-                              "/explicit.glb 2>&1", &out), 0) << out;
+                              "/explicit.glb 2>&1",
+                          &out),
+              0)
+        << out;
     const uintmax_t explicit_uvs = fs::file_size(dir + "/explicit.glb");
-    std::printf("%s: %ju bytes, %ju with explicit UVs\n", m.name.c_str(), uintmax_t(ours), uintmax_t(explicit_uvs));
+    std::printf("%s: %ju bytes, %ju with explicit UVs\n", m.name.c_str(), uintmax_t(ours),
+                uintmax_t(explicit_uvs));
     EXPECT_LE(ours, explicit_uvs + explicit_uvs / 100 + 512) << m.name;
   }
 }
@@ -204,7 +261,11 @@ TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
   const std::string dir = scratch_dir("uses-extension");
   ASSERT_EQ(write_gltf(model, dir + "/src.glb"), "");
   std::string out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q --min-psnr 0 --always-implicit " + dir + "/src.glb -o " + dir + "/enc.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q --min-psnr 0 --always-implicit " + dir +
+                            "/src.glb -o " + dir + "/enc.glb 2>&1",
+                        &out),
+            0)
+      << out;
   tinygltf::Model em;
   ASSERT_TRUE(read_gltf(dir + "/enc.glb", em).ok);
   const auto& prim = em.meshes[0].primitives[0];
@@ -212,7 +273,8 @@ TEST(GeneratedRoundTrip, EncodedFileUsesTheExtensionAndDropsExplicitUvs) {
   ASSERT_TRUE(prim.extensions.count(kDracoExtension));
   const auto& uv = em.accessors[prim.attributes.at("TEXCOORD_0")];
   EXPECT_EQ(uv.bufferView, -1) << "TEXCOORD_0 must be declared without data";
-  EXPECT_NE(std::find(em.extensionsRequired.begin(), em.extensionsRequired.end(), ext::kName), em.extensionsRequired.end());
+  EXPECT_NE(std::find(em.extensionsRequired.begin(), em.extensionsRequired.end(), ext::kName),
+            em.extensionsRequired.end());
   // The Draco data must not carry TEXCOORD_0.
   const auto& dext = prim.extensions.at(kDracoExtension);
   EXPECT_FALSE(dext.Get("attributes").Has("TEXCOORD_0"));
@@ -263,7 +325,8 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
   tinygltf::Model sm;
   ASSERT_TRUE(read_gltf(src, sm).ok);
   auto base_image = [](const tinygltf::Model& m, int material) -> const std::vector<unsigned char>& {
-    return m.images[m.textures[m.materials[material].pbrMetallicRoughness.baseColorTexture.index].source].image;
+    return m.images[m.textures[m.materials[material].pbrMetallicRoughness.baseColorTexture.index].source]
+        .image;
   };
   // One page, then pages of 128 texels: the sphere is cut into primitives,
   // and every page's part gets copies of both materials.
@@ -272,11 +335,14 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
     const std::string enc = dir + "/enc" + std::to_string(pages.size()) + ".glb";
     const std::string dec = dir + "/dec" + std::to_string(pages.size()) + ".glb";
     std::string out;
-    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode --always-implicit " + pages + " " + src + " -o " + enc +
-                              " 2>&1", &out), 0)
+    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode --always-implicit " + pages + " " + src +
+                              " -o " + enc + " 2>&1",
+                          &out),
+              0)
         << out;
     EXPECT_EQ(out.find("explicit UVs kept"), std::string::npos) << out;
-    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0) << out;
+    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + enc + " -o " + dec + " 2>&1", &out), 0)
+        << out;
     tinygltf::Model em, dm;
     ASSERT_TRUE(read_gltf(enc, em).ok);
     ASSERT_TRUE(read_gltf(dec, dm).ok);
@@ -327,7 +393,7 @@ TEST(GeneratedRoundTrip, MaterialVariantsShareTheAtlasLayout) {
 // the quality floor: the Duck's PNG made JPEG (q85). With the flat mean fill
 // beyond the gutters its atlas came out larger than the source (the steps
 // at every patch outline cost JPEG coefficients); the pull-push fill
-// (codec/atlas_fill.h) keeps the outlines smooth.
+// (codec/encode/texture/atlas_fill.h) keeps the outlines smooth.
 TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   GLTFWARP_REQUIRE_CORPUS();
   const std::string path = corpus_path("Duck");
@@ -347,8 +413,8 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   ASSERT_EQ(encode_model(model, o, report), "");
   ASSERT_EQ(report.atlases.size(), 1u);
   const auto& atlas = report.atlases[0];
-  std::printf("JPEG Duck: images %zu -> %zu bytes, %.2f dB\n", atlas.source_image_bytes, atlas.atlas_image_bytes,
-              atlas.psnr);
+  std::printf("JPEG Duck: images %zu -> %zu bytes, %.2f dB\n", atlas.source_image_bytes,
+              atlas.atlas_image_bytes, atlas.psnr);
   EXPECT_LE(atlas.atlas_image_bytes, atlas.source_image_bytes);
   EXPECT_GE(atlas.psnr, 38.0);
   bool jpeg_atlas = false;
@@ -368,15 +434,19 @@ TEST(GeneratedRoundTrip, TextureTransformScaleKeepsTheDensity) {
     tinygltf::Model model;
     ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
     if (squeezed) {
-      const tinygltf::Accessor& acc = model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
+      const tinygltf::Accessor& acc =
+          model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
       ASSERT_EQ(acc.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
       const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
       ASSERT_TRUE(view.byteStride == 0 || view.byteStride == 8);
-      auto* uv = reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
+      auto* uv =
+          reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
       for (size_t i = 0; i < 2 * acc.count; ++i) uv[i] = (uv[i] - 0.25f) / 16.0f;  // back: 0.25 + 16 * uv
       tinygltf::Value::Object transform;
-      transform["offset"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.25), tinygltf::Value(0.25)});
-      transform["scale"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(16.0), tinygltf::Value(16.0)});
+      transform["offset"] =
+          tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.25), tinygltf::Value(0.25)});
+      transform["scale"] =
+          tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(16.0), tinygltf::Value(16.0)});
       model.materials[0].pbrMetallicRoughness.baseColorTexture.extensions["KHR_texture_transform"] =
           tinygltf::Value(transform);
       model.extensionsUsed.push_back("KHR_texture_transform");
@@ -407,8 +477,11 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
   std::string out;
   for (const bool always : {false, true}) {
     const std::string enc = dir + (always ? "/always.glb" : "/floor.glb");
-    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode " + (always ? "--always-implicit " : "") + "'" + path +
-                              "' -o " + enc + " 2>&1", &out), 0) << out;
+    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode " + (always ? "--always-implicit " : "") +
+                              "'" + path + "' -o " + enc + " 2>&1",
+                          &out),
+              0)
+        << out;
     EXPECT_EQ(out.find("fallback: explicit UVs kept") != std::string::npos, !always) << out;
     tinygltf::Model em;
     ASSERT_TRUE(read_gltf(enc, em).ok);
@@ -430,8 +503,13 @@ TEST(CorpusRoundTrip, NormalMappedModelIsLitAlike) {
   ASSERT_FALSE(path.empty());
   const std::string dir = scratch_dir("lit");
   std::string out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q '" + path + "' -o " + dir + "/e.glb 2>&1", &out), 0) << out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &out), 0) << out;
+  ASSERT_EQ(
+      run_command(std::string(GLTFWARP_CLI) + " encode -q '" + path + "' -o " + dir + "/e.glb 2>&1", &out), 0)
+      << out;
+  ASSERT_EQ(
+      run_command(std::string(GLTFWARP_CLI) + " decode -q " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &out),
+      0)
+      << out;
   tinygltf::Model sm, dm;
   ASSERT_TRUE(read_gltf(path, sm).ok);
   ASSERT_TRUE(read_gltf(dir + "/d.glb", dm).ok);
@@ -509,12 +587,15 @@ TEST(CorpusRoundTrip, ReportedQualityIsThatOfTheCodedImages) {
   ASSERT_FALSE(path.empty());
   const std::string dir = scratch_dir("jpeg-quality");
   std::string out, ignored;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode --image-format jpeg --jpeg-quality 60 --always-implicit '" +
-                            path + "' -o " + dir + "/e.glb 2>&1",
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) +
+                            " encode --image-format jpeg --jpeg-quality 60 --always-implicit '" + path +
+                            "' -o " + dir + "/e.glb 2>&1",
                         &out),
             0)
       << out;
-  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &ignored), 0)
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " decode -q " + dir + "/e.glb -o " + dir + "/d.glb 2>&1",
+                        &ignored),
+            0)
       << ignored;
   const size_t at = out.find("surface PSNR ");
   ASSERT_NE(at, std::string::npos) << out;

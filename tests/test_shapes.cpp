@@ -1,11 +1,11 @@
-// Generated models (codec/shapes.h): well-formed buffers and the topology
+// Generated models (tests/support/testing/shapes.h): well-formed buffers and the topology
 // each shape is meant to have.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "codec/shapes.h"
-#include "codec/topology.h"
+#include "codec/core/topology.h"
+#include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
 namespace {

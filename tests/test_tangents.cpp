@@ -4,7 +4,7 @@
 
 #include <cmath>
 
-#include "codec/tangents.h"
+#include "codec/decode/tangents.h"
 
 namespace gltfwarp {
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <functional>
 
-#include "codec/tangents.h"
-#include "codec/warp.h"
+#include "codec/decode/tangents.h"
+#include "codec/encode/texture/warp.h"
 
 namespace gltfwarp {
 namespace {
@@ -34,8 +34,7 @@ const uint8_t* texel(const OIIO::ImageBuf& img, int x, int y) {
 struct Patch {
   std::vector<float> src, atlas;
   void add(double a0x, double a0y, double axx, double axy, double ayx, double ayy,  //
-           double s0u, double s0v, double sxu, double sxv, double syu, double syv, int W, int H,
-           int n = 4) {
+           double s0u, double s0v, double sxu, double sxv, double syu, double syv, int W, int H, int n = 4) {
     auto put = [&](double i, double j) {
       atlas.push_back(float((a0x + i * axx + j * ayx) / W));
       atlas.push_back(float((a0y + i * axy + j * ayy) / H));
@@ -59,9 +58,8 @@ struct Patch {
 
 TEST(Warp, CheckerboardSurvivesRotation) {
   const int S = 256;
-  const OIIO::ImageBuf src = make_image(S, S, 3, [](int x, int y, uint8_t* p) {
-    p[0] = p[1] = p[2] = ((x / 16 + y / 16) & 1) ? 255 : 0;
-  });
+  const OIIO::ImageBuf src = make_image(
+      S, S, 3, [](int x, int y, uint8_t* p) { p[0] = p[1] = p[2] = ((x / 16 + y / 16) & 1) ? 255 : 0; });
   const int W = 320;
   const double a = 30 * kPi / 180, c = std::cos(a), s = std::sin(a);
   // Source texel q in [32, 224]^2 goes to R(a) (q - 128) + 160.
@@ -74,8 +72,8 @@ TEST(Warp, CheckerboardSurvivesRotation) {
   to_atlas(224, 32, x1, y1);
   to_atlas(32, 224, x2, y2);
   Patch patch;
-  patch.add(x0, y0, x1 - x0, y1 - y0, x2 - x0, y2 - y0, 32.0 / S, 32.0 / S, 192.0 / S, 0, 0,
-            192.0 / S, W, W, 8);
+  patch.add(x0, y0, x1 - x0, y1 - y0, x2 - x0, y2 - y0, 32.0 / S, 32.0 / S, 192.0 / S, 0, 0, 192.0 / S, W, W,
+            8);
   const WarpPrimitive prims[1] = {patch.view()};
   WarpOptions opt;
   opt.encoding = SlotEncoding::linear;
@@ -110,9 +108,12 @@ TEST(Warp, SmoothContentSurvivesMinifyingTurn) {
   const int S = 512;
   auto f = [](double u, double v, int ch) {
     switch (ch) {
-      case 0: return 0.5 + 0.4 * std::sin(2 * kPi * 2 * u);
-      case 1: return 0.5 + 0.4 * std::cos(2 * kPi * 3 * v);
-      default: return 0.2 + 0.6 * u * v;
+      case 0:
+        return 0.5 + 0.4 * std::sin(2 * kPi * 2 * u);
+      case 1:
+        return 0.5 + 0.4 * std::cos(2 * kPi * 3 * v);
+      default:
+        return 0.2 + 0.6 * u * v;
     }
   };
   const OIIO::ImageBuf src = make_image(S, S, 3, [&](int x, int y, uint8_t* p) {
@@ -150,9 +151,8 @@ TEST(Warp, CubicMagnificationIsSharperThanBilinear) {
   // of the nearest source texels.
   const int S = 64;
   auto wave = [](double p) { return 0.5 + 0.4 * std::sin(2 * kPi * (p - 0.5) / 8); };
-  const OIIO::ImageBuf src = make_image(S, 8, 1, [&](int x, int, uint8_t* p) {
-    p[0] = uint8_t(std::lround(255 * wave(x + 0.5)));
-  });
+  const OIIO::ImageBuf src =
+      make_image(S, 8, 1, [&](int x, int, uint8_t* p) { p[0] = uint8_t(std::lround(255 * wave(x + 0.5))); });
   double rms[2];
   for (int cubic = 0; cubic < 2; ++cubic) {
     Patch patch;  // atlas [0, 64] x [0, 8] <- source u shifted by half a texel
@@ -207,9 +207,8 @@ TEST(Warp, WrapModes) {
 
 TEST(Warp, TextureTransformIsBaked) {
   // Transform maps the patch's uv (0..1) into the right half of the source.
-  const OIIO::ImageBuf src = make_image(16, 16, 3, [](int x, int, uint8_t* p) {
-    p[0] = x < 8 ? 10 : 240, p[1] = 0, p[2] = 0;
-  });
+  const OIIO::ImageBuf src =
+      make_image(16, 16, 3, [](int x, int, uint8_t* p) { p[0] = x < 8 ? 10 : 240, p[1] = 0, p[2] = 0; });
   Patch patch;
   patch.add(4, 4, 24, 0, 0, 24, 0.2, 0.2, 0.6, 0, 0, 0.6, 32, 32, 2);
   const WarpPrimitive prims[1] = {patch.view()};
@@ -225,9 +224,8 @@ TEST(Warp, TextureTransformIsBaked) {
 }
 
 TEST(Warp, SrgbFlatColourRoundTripIsExact) {
-  const OIIO::ImageBuf src = make_image(8, 8, 4, [](int, int, uint8_t* p) {
-    p[0] = 200, p[1] = 37, p[2] = 90, p[3] = 128;
-  });
+  const OIIO::ImageBuf src =
+      make_image(8, 8, 4, [](int, int, uint8_t* p) { p[0] = 200, p[1] = 37, p[2] = 90, p[3] = 128; });
   Patch patch;
   patch.add(3, 5, 20, 3, -4, 17, 0.1, 0.1, 0.8, 0, 0, 0.8, 32, 32);
   const WarpPrimitive prims[1] = {patch.view()};
@@ -251,9 +249,8 @@ TEST(Warp, SrgbFlatColourRoundTripIsExact) {
 // and right half blue.
 struct RedBlueScene {
   static constexpr int W = 64, H = 32;
-  OIIO::ImageBuf src = make_image(32, 16, 3, [](int x, int, uint8_t* p) {
-    p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255;
-  });
+  OIIO::ImageBuf src = make_image(
+      32, 16, 3, [](int x, int, uint8_t* p) { p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255; });
   Patch a, b;
   RedBlueScene() {
     a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);
@@ -331,9 +328,8 @@ TEST(Warp, PullPushFillContinuesTheNearestPatch) {
 uint8_t enc(double v) { return uint8_t(std::lround((v * 0.5 + 0.5) * 255)); }
 
 void warp_normal(double nx, double ny, double nz, double a, uint8_t out_px[3]) {
-  const OIIO::ImageBuf src = make_image(8, 8, 3, [&](int, int, uint8_t* p) {
-    p[0] = enc(nx), p[1] = enc(ny), p[2] = enc(nz);
-  });
+  const OIIO::ImageBuf src =
+      make_image(8, 8, 3, [&](int, int, uint8_t* p) { p[0] = enc(nx), p[1] = enc(ny), p[2] = enc(nz); });
   Patch patch;
   patch.add(4, 4, 24, 0, 0, 24, 0.1, 0.1, 0.8, 0, 0, 0.8, 32, 32, 2);
   const size_t corners = patch.atlas.size() / 2;
@@ -382,15 +378,15 @@ TEST(Warp, NormalMapKeepsTheObjectSpaceNormalUnderAPatchTurn) {
   TriMesh mesh;
   const int n = 4;
   for (int j = 0; j <= n; ++j)
-    for (int i = 0; i <= n; ++i) mesh.positions.insert(mesh.positions.end(), {float(i) / n, float(j) / n, 0.0f});
+    for (int i = 0; i <= n; ++i)
+      mesh.positions.insert(mesh.positions.end(), {float(i) / n, float(j) / n, 0.0f});
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 2, d = a + n + 1;
       mesh.indices.insert(mesh.indices.end(), {a, b, c, a, c, d});
     }
-  const OIIO::ImageBuf src = make_image(8, 8, 3, [&](int, int, uint8_t* p) {
-    p[0] = enc(0.6), p[1] = enc(0.0), p[2] = enc(0.8);
-  });
+  const OIIO::ImageBuf src =
+      make_image(8, 8, 3, [&](int, int, uint8_t* p) { p[0] = enc(0.6), p[1] = enc(0.0), p[2] = enc(0.8); });
   for (double theta : {0.0, 0.4, kPi / 2, 2.5, -1.0}) {
     std::vector<float> old_uv, new_uv, normals;
     for (uint32_t v : mesh.indices) {

@@ -3,7 +3,7 @@
 // mesh is measured within its point budget.
 #include <gtest/gtest.h>
 
-#include "codec/warp_quality.h"
+#include "codec/encode/texture/warp_quality.h"
 
 namespace gltfwarp {
 namespace {
@@ -38,7 +38,8 @@ TEST(WarpQuality, IdenticalIs99AndAShiftIsSeen) {
   // the atlas at double the UVs.
   TextureSampler scaled;
   load_texture_sampler(checker(64, 1), true, 33071, 33071, {0.5, 0, 0, 0, 0.5, 0}, scaled);
-  const std::vector<float> doubled = square(0, 0), half = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0.5f};
+  const std::vector<float> doubled = square(0, 0),
+                           half = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0.5f};
   const SurfaceUvs tx[] = {{doubled, half, {}}};
   EXPECT_EQ(surface_error(scaled, b, tx).psnr(), 99.0);
 }

@@ -10,7 +10,7 @@
 
 #include <unistd.h>
 
-#include "format/gltf_io.h"
+#include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::fuzz {
 

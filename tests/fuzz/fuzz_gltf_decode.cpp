@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "codec/decoder.h"
+#include "codec/decode/decoder.h"
 #include "fuzz_gltf_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "format/gltf_primitive.h"
+#include "format/gltf/gltf_primitive.h"
 #include "fuzz_gltf_common.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

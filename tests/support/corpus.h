@@ -40,10 +40,10 @@ bool on_ci();
 }  // namespace gltfwarp::test
 
 // Fails on CI, skips elsewhere.
-#define GLTFWARP_REQUIRE_CORPUS()                                                              \
-  do {                                                                                         \
-    if (::gltfwarp::test::corpus_dir().empty()) {                                              \
+#define GLTFWARP_REQUIRE_CORPUS()                                                                \
+  do {                                                                                           \
+    if (::gltfwarp::test::corpus_dir().empty()) {                                                \
       if (::gltfwarp::test::on_ci()) FAIL() << "corpus not found at ../shared/corpus (CI=true)"; \
-      GTEST_SKIP() << "corpus not found at ../shared/corpus";                                  \
-    }                                                                                          \
+      GTEST_SKIP() << "corpus not found at ../shared/corpus";                                    \
+    }                                                                                            \
   } while (0)

@@ -23,9 +23,9 @@
 #include <stb_image_write.h>
 #pragma GCC diagnostic pop
 
-#include "codec/sample_model.h"
-#include "format/gltf_accessors.h"
-#include "format/gltf_io.h"
+#include "format/gltf/gltf_accessors.h"
+#include "format/gltf/gltf_io.h"
+#include "tests/support/testing/sample_model.h"
 
 namespace gltfwarp::test {
 
@@ -68,7 +68,7 @@ MeshSpec fan_mesh(int n) {
     m.uvs.insert(m.uvs.end(), {0.5f + 0.45f * std::cos(a), 0.5f + 0.45f * std::sin(a)});
   }
   for (int i = 0; i <= n; ++i) m.indices.push_back(uint32_t(i));  // tip, then the ring
-  m.indices.push_back(1u);                                          // closed
+  m.indices.push_back(1u);                                        // closed
   return m;
 }
 
@@ -112,7 +112,8 @@ void append_bytes(void* ctx, void* data, int size) {
 }
 
 template <typename T>
-VertexAttribute int_attr(const std::string& semantic, int components, int ct, bool normalized, const std::vector<T>& v) {
+VertexAttribute int_attr(const std::string& semantic, int components, int ct, bool normalized,
+                         const std::vector<T>& v) {
   VertexAttribute a;
   a.semantic = semantic;
   a.component_type = ct;
@@ -192,9 +193,11 @@ int add_primitive(tinygltf::Model& m, const MeshSpec& spec, int material) {
   tinygltf::Primitive prim;
   VertexAttribute pos = VertexAttribute::from_floats("POSITION", 3, spec.positions);
   prim.attributes["POSITION"] = add_accessor(m, pos, TINYGLTF_TARGET_ARRAY_BUFFER);
-  prim.attributes["NORMAL"] = add_accessor(m, VertexAttribute::from_floats("NORMAL", 3, normals_of(spec)), TINYGLTF_TARGET_ARRAY_BUFFER);
+  prim.attributes["NORMAL"] = add_accessor(m, VertexAttribute::from_floats("NORMAL", 3, normals_of(spec)),
+                                           TINYGLTF_TARGET_ARRAY_BUFFER);
   if (!spec.uvs.empty())
-    prim.attributes["TEXCOORD_0"] = add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, spec.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
+    prim.attributes["TEXCOORD_0"] = add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, spec.uvs),
+                                                 TINYGLTF_TARGET_ARRAY_BUFFER);
   if (!spec.indices.empty()) prim.indices = add_index_accessor(m, spec.indices, spec.positions.size() / 3);
   prim.mode = spec.mode;
   prim.material = material;
@@ -282,7 +285,8 @@ std::vector<VariedModel> varied_models() {
     const int variant = add_material(m, add_texture(m, img));
     add_primitive(m, grid_mesh(6, 5), mat);
     tinygltf::Value::Array mappings;
-    for (const tinygltf::Value& material : {tinygltf::Value(99), tinygltf::Value(std::string("x")), tinygltf::Value(variant)}) {
+    for (const tinygltf::Value& material :
+         {tinygltf::Value(99), tinygltf::Value(std::string("x")), tinygltf::Value(variant)}) {
       tinygltf::Value::Object mapping;
       mapping["material"] = material;
       mapping["variants"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0)});
@@ -306,7 +310,8 @@ std::vector<VariedModel> varied_models() {
       ASSERT_LT(size_t(warped), e.materials.size());
       // The variant samples the atlas (the clamp-to-edge texture the warp made).
       const int tex = e.materials[warped].pbrMetallicRoughness.baseColorTexture.index;
-      EXPECT_EQ(tex, e.materials[prim_of(e, 0, 0).material].pbrMetallicRoughness.baseColorTexture.index) << report;
+      EXPECT_EQ(tex, e.materials[prim_of(e, 0, 0).material].pbrMetallicRoughness.baseColorTexture.index)
+          << report;
     };
   }
   // Textures on TEXCOORD_1 are left alone; TEXCOORD_0 is replaced because
@@ -443,7 +448,8 @@ std::vector<VariedModel> varied_models() {
     tinygltf::Primitive prim;
     VertexAttribute pos = int_attr("POSITION", 3, TINYGLTF_COMPONENT_TYPE_SHORT, false, q);
     prim.attributes["POSITION"] = add_accessor(m, pos, TINYGLTF_TARGET_ARRAY_BUFFER);
-    prim.attributes["TEXCOORD_0"] = add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
+    prim.attributes["TEXCOORD_0"] =
+        add_accessor(m, VertexAttribute::from_floats("TEXCOORD_0", 2, g.uvs), TINYGLTF_TARGET_ARRAY_BUFFER);
     prim.indices = add_index_accessor(m, g.indices, g.positions.size() / 3);
     prim.material = mat;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
@@ -504,7 +510,8 @@ std::vector<VariedModel> varied_models() {
   // Huge coordinates (far from the origin, and near float's range).
   for (const float scale : {1e6f, 1e30f}) {
     MeshSpec g = grid_mesh(5, 5);
-    for (size_t i = 0; i < g.positions.size(); ++i) g.positions[i] = g.positions[i] * scale + (i % 3 == 0 ? 3 * scale : 0);
+    for (size_t i = 0; i < g.positions.size(); ++i)
+      g.positions[i] = g.positions[i] * scale + (i % 3 == 0 ? 3 * scale : 0);
     add(scale < 1e10f ? "huge-coordinates" : "huge-coordinates-1e30", single(g), false);
   }
   // Closed generated shapes.
@@ -544,7 +551,8 @@ std::vector<VariedModel> varied_models() {
     v->check_encoded = [](const tinygltf::Model& e, const std::string& report) {
       EXPECT_FALSE(has_ours(prim_of(e, 0, 0)));
       EXPECT_TRUE(prim_of(e, 0, 0).attributes.count("TEXCOORD_0"));
-      EXPECT_NE(report.find("explicit UVs kept"), std::string::npos) << "the reason must be reported:\n" << report;
+      EXPECT_NE(report.find("explicit UVs kept"), std::string::npos) << "the reason must be reported:\n"
+                                                                     << report;
       ASSERT_EQ(e.images.size(), 1u);
       EXPECT_EQ(e.images[0].mimeType, "image/ktx2");
     };
@@ -611,7 +619,8 @@ std::string base64(const std::string& in) {
   std::string out;
   size_t i = 0;
   for (; i + 2 < in.size(); i += 3) {
-    const uint32_t v = uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 | uint8_t(in[i + 2]);
+    const uint32_t v =
+        uint32_t(uint8_t(in[i])) << 16 | uint32_t(uint8_t(in[i + 1])) << 8 | uint8_t(in[i + 2]);
     out += {k[v >> 18], k[(v >> 12) & 63], k[(v >> 6) & 63], k[v & 63]};
   }
   if (i + 1 == in.size()) {
@@ -634,7 +643,8 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
     write_file(dir + "/" + name, bytes);
     out.push_back({name, dir + "/" + name, must_fail});
   };
-  auto edit = [&](const std::string& name, const Glb& src, const std::function<void(Glb&)>& fn, bool must_fail = true) {
+  auto edit = [&](const std::string& name, const Glb& src, const std::function<void(Glb&)>& fn,
+                  bool must_fail = true) {
     Glb g = src;
     fn(g);
     file(name, join_glb(g), must_fail);
@@ -666,7 +676,9 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
   with_json("deep-nesting.gltf", R"({"asset":{"version":"2.0"},"extras":)" + std::string(200000, '[') +
                                      std::string(200000, ']') + "}");
   with_json("huge-number.gltf", R"({"asset":{"version":"2.0"},"accessors":[{"count":1e400}]})");
-  edit("broken-json-chunk.glb", base, [](Glb& g) { g.json = nlohmann::json::parse(R"({"asset": 5})"); }, false);
+  edit(
+      "broken-json-chunk.glb", base, [](Glb& g) { g.json = nlohmann::json::parse(R"({"asset": 5})"); },
+      false);
   // Missing files, forbidden URIs, a FIFO that would block a plain read.
   {
     Glb g = base;
@@ -688,12 +700,15 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
   // Indices and accessor references.
   const auto& prim0 = base.json["meshes"][0]["primitives"][0];
   const int pos_acc = prim0["attributes"]["POSITION"].get<int>(), idx_acc = prim0["indices"].get<int>();
-  const auto view_of = [&](const Glb& g, int acc) { return g.json["accessors"][acc]["bufferView"].get<int>(); };
+  const auto view_of = [&](const Glb& g, int acc) {
+    return g.json["accessors"][acc]["bufferView"].get<int>();
+  };
   const auto view_offset = [&](const Glb& g, int view) {
     return g.json["bufferViews"][view].value("byteOffset", 0) + 0;
   };
   edit("index-out-of-range.glb", base, [&](Glb& g) {
-    const size_t at = view_offset(g, view_of(g, idx_acc)) + g.json["accessors"][idx_acc].value("byteOffset", 0);
+    const size_t at =
+        view_offset(g, view_of(g, idx_acc)) + g.json["accessors"][idx_acc].value("byteOffset", 0);
     const uint16_t bad = 60000;
     std::memcpy(&g.bin[at], &bad, 2);
   });
@@ -701,14 +716,17 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
        [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 99; });
   edit("attribute-accessor-negative.glb", base,
        [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = -7; });
-  edit("indices-accessor-out-of-range.glb", base, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["indices"] = 99; });
+  edit("indices-accessor-out-of-range.glb", base,
+       [](Glb& g) { g.json["meshes"][0]["primitives"][0]["indices"] = 99; });
   edit("nan-position.glb", base, [&](Glb& g) {
-    const size_t at = view_offset(g, view_of(g, pos_acc)) + g.json["accessors"][pos_acc].value("byteOffset", 0) + 4;
+    const size_t at =
+        view_offset(g, view_of(g, pos_acc)) + g.json["accessors"][pos_acc].value("byteOffset", 0) + 4;
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(&g.bin[at], &nan, 4);
   });
   edit("inf-position.glb", base, [&](Glb& g) {
-    const size_t at = view_offset(g, view_of(g, pos_acc)) + g.json["accessors"][pos_acc].value("byteOffset", 0);
+    const size_t at =
+        view_offset(g, view_of(g, pos_acc)) + g.json["accessors"][pos_acc].value("byteOffset", 0);
     const float inf = std::numeric_limits<float>::infinity();
     std::memcpy(&g.bin[at], &inf, 4);
   });
@@ -723,7 +741,8 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
     g.json["accessors"].push_back({{"componentType", 5126}, {"type", "MAT4"}, {"count", 200000000}});
     g.json["meshes"][0]["primitives"][0]["attributes"]["_HUGE"] = g.json["accessors"].size() - 1;
   });
-  edit("accessor-offset-past-view.glb", base, [&](Glb& g) { g.json["accessors"][pos_acc]["byteOffset"] = 1u << 30; });
+  edit("accessor-offset-past-view.glb", base,
+       [&](Glb& g) { g.json["accessors"][pos_acc]["byteOffset"] = 1u << 30; });
   edit("stride-below-element.glb", base,
        [&](Glb& g) { g.json["bufferViews"][view_of(g, pos_acc)]["byteStride"] = 4; });
   edit("image-view-past-end.glb", base, [&](Glb& g) {
@@ -746,10 +765,18 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
         {"values", {{"bufferView", view_of(g, pos_acc)}}}};
   });
   // Wrong JSON types.
-  edit("meshes-not-array.glb", base, [](Glb& g) { g.json["meshes"] = {{"a", 1}}; }, false);
-  edit("attributes-array.glb", base, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"] = {1, 2}; });
-  edit("primitive-extensions-number.glb", base,
-       [](Glb& g) { g.json["meshes"][0]["primitives"][0]["extensions"] = 3; }, false);
+  edit(
+      "meshes-not-array.glb", base,
+      [](Glb& g) {
+        g.json["meshes"] = {{"a", 1}};
+      },
+      false);
+  edit("attributes-array.glb", base, [](Glb& g) {
+    g.json["meshes"][0]["primitives"][0]["attributes"] = {1, 2};
+  });
+  edit(
+      "primitive-extensions-number.glb", base,
+      [](Glb& g) { g.json["meshes"][0]["primitives"][0]["extensions"] = 3; }, false);
   edit("draco-ext-number.glb", base, [](Glb& g) {
     g.json["meshes"][0]["primitives"][0]["extensions"] = {{"KHR_draco_mesh_compression", 5}};
   });
@@ -759,17 +786,29 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
   edit("ours-ext-string.glb", base, [](Glb& g) {
     g.json["meshes"][0]["primitives"][0]["extensions"] = {{"GLTFWARP_implicit_texcoords", "x"}};
   });
-  edit("texture-transform-wrong-type.glb", base, [](Glb& g) {
-    g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
-        {"KHR_texture_transform", {{"offset", "a"}, {"scale", 5}, {"rotation", {1}}, {"texCoord", 1e30}}}};
-  }, false);
-  edit("texcoord-huge.glb", base,
-       [](Glb& g) { g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1e30; }, false);
-  edit("texture-source-huge.glb", base, [](Glb& g) { g.json["textures"][0]["source"] = 1e30; }, false);
-  edit("material-out-of-range.glb", base, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["material"] = 77; }, false);
-  edit("texture-out-of-range.glb", base,
-       [](Glb& g) { g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 55; }, false);
-  edit("mode-unknown.glb", base, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["mode"] = 9; }, false);
+  edit(
+      "texture-transform-wrong-type.glb", base,
+      [](Glb& g) {
+        g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+            {"KHR_texture_transform",
+             {{"offset", "a"}, {"scale", 5}, {"rotation", {1}}, {"texCoord", 1e30}}}};
+      },
+      false);
+  edit(
+      "texcoord-huge.glb", base,
+      [](Glb& g) { g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1e30; },
+      false);
+  edit(
+      "texture-source-huge.glb", base, [](Glb& g) { g.json["textures"][0]["source"] = 1e30; }, false);
+  edit(
+      "material-out-of-range.glb", base,
+      [](Glb& g) { g.json["meshes"][0]["primitives"][0]["material"] = 77; }, false);
+  edit(
+      "texture-out-of-range.glb", base,
+      [](Glb& g) { g.json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"]["index"] = 55; },
+      false);
+  edit(
+      "mode-unknown.glb", base, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["mode"] = 9; }, false);
 
   // The encoded file: Draco data, our bitstream, their extension objects.
   const auto& eprim = enc.json["meshes"][0]["primitives"][0];
@@ -778,49 +817,69 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
     const int draco_view = eprim["extensions"]["KHR_draco_mesh_compression"]["bufferView"].get<int>();
     const int our_view = eprim["extensions"]["GLTFWARP_implicit_texcoords"]["bufferView"].get<int>();
     auto flip_view = [&](const std::string& name, int view, double where, uint8_t mask) {
-      edit(name, enc, [&](Glb& g) {
-        const size_t off = g.json["bufferViews"][view].value("byteOffset", 0);
-        const size_t len = g.json["bufferViews"][view]["byteLength"].get<size_t>();
-        const size_t at = off + std::min(len - 1, static_cast<size_t>(where * double(len)));
-        g.bin[at] = static_cast<char>(g.bin[at] ^ mask);
-      }, false);
+      edit(
+          name, enc,
+          [&](Glb& g) {
+            const size_t off = g.json["bufferViews"][view].value("byteOffset", 0);
+            const size_t len = g.json["bufferViews"][view]["byteLength"].get<size_t>();
+            const size_t at = off + std::min(len - 1, static_cast<size_t>(where * double(len)));
+            g.bin[at] = static_cast<char>(g.bin[at] ^ mask);
+          },
+          false);
     };
     for (const double w : {0.0, 0.01, 0.05, 0.2, 0.5, 0.9, 0.999}) {
       flip_view("corrupt-draco-" + std::to_string(int(w * 1000)) + ".glb", draco_view, w, 0x5A);
       flip_view("corrupt-bitstream-" + std::to_string(int(w * 1000)) + ".glb", our_view, w, 0xA5);
     }
-    auto ext_edit = [&](const std::string& name, const std::function<void(nlohmann::json&)>& fn, bool must_fail = true) {
-      edit(name, enc, [&](Glb& g) { fn(g.json["meshes"][0]["primitives"][0]["extensions"]); }, must_fail);
+    auto ext_edit = [&](const std::string& name, const std::function<void(nlohmann::json&)>& fn,
+                        bool must_fail = true) {
+      edit(
+          name, enc, [&](Glb& g) { fn(g.json["meshes"][0]["primitives"][0]["extensions"]); }, must_fail);
     };
     ext_edit("enc-ours-number.glb", [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"] = 5; });
-    ext_edit("enc-ours-view-string.glb", [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = "x"; });
-    ext_edit("enc-ours-view-huge.glb", [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = 1e30; });
-    ext_edit("enc-ours-view-negative.glb", [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = -1; });
+    ext_edit("enc-ours-view-string.glb",
+             [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = "x"; });
+    ext_edit("enc-ours-view-huge.glb",
+             [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = 1e30; });
+    ext_edit("enc-ours-view-negative.glb",
+             [](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = -1; });
     ext_edit("enc-ours-view-is-draco.glb",
              [&](nlohmann::json& e) { e["GLTFWARP_implicit_texcoords"]["bufferView"] = draco_view; });
-    ext_edit("enc-draco-array.glb", [](nlohmann::json& e) { e["KHR_draco_mesh_compression"] = nlohmann::json::array(); });
-    ext_edit("enc-draco-view-huge.glb", [](nlohmann::json& e) { e["KHR_draco_mesh_compression"]["bufferView"] = 1e30; });
+    ext_edit("enc-draco-array.glb",
+             [](nlohmann::json& e) { e["KHR_draco_mesh_compression"] = nlohmann::json::array(); });
+    ext_edit("enc-draco-view-huge.glb",
+             [](nlohmann::json& e) { e["KHR_draco_mesh_compression"]["bufferView"] = 1e30; });
     ext_edit("enc-draco-attr-string.glb",
              [](nlohmann::json& e) { e["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = "a"; });
     ext_edit("enc-draco-attr-wrong-id.glb",
              [](nlohmann::json& e) { e["KHR_draco_mesh_compression"]["attributes"]["POSITION"] = 42; });
     ext_edit("enc-draco-view-is-ours.glb",
              [&](nlohmann::json& e) { e["KHR_draco_mesh_compression"]["bufferView"] = our_view; });
-    edit("enc-draco-view-truncated.glb", enc, [&](Glb& g) {
-      auto& v = g.json["bufferViews"][draco_view];
-      v["byteLength"] = v["byteLength"].get<size_t>() / 2;
-    }, false);
+    edit(
+        "enc-draco-view-truncated.glb", enc,
+        [&](Glb& g) {
+          auto& v = g.json["bufferViews"][draco_view];
+          v["byteLength"] = v["byteLength"].get<size_t>() / 2;
+        },
+        false);
     edit("enc-bitstream-view-truncated.glb", enc, [&](Glb& g) {
       auto& v = g.json["bufferViews"][our_view];
       v["byteLength"] = v["byteLength"].get<size_t>() / 2;
     });
     // Found by fuzz_gltf_decode: a Draco POSITION declared VEC2 (min/max were
     // written for three components).
-    edit("enc-position-vec2.glb", enc, [](Glb& g) {
-      g.json["accessors"][g.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]["type"] = "VEC2";
-    }, false);
-    edit("enc-no-position.glb", enc, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"].erase("POSITION"); }, false);
-    edit("enc-mode-lines.glb", enc, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["mode"] = 1; }, false);
+    edit(
+        "enc-position-vec2.glb", enc,
+        [](Glb& g) {
+          g.json["accessors"][g.json["meshes"][0]["primitives"][0]["attributes"]["POSITION"].get<int>()]
+                ["type"] = "VEC2";
+        },
+        false);
+    edit(
+        "enc-no-position.glb", enc,
+        [](Glb& g) { g.json["meshes"][0]["primitives"][0]["attributes"].erase("POSITION"); }, false);
+    edit(
+        "enc-mode-lines.glb", enc, [](Glb& g) { g.json["meshes"][0]["primitives"][0]["mode"] = 1; }, false);
   }
   return out;
 }

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 #include <tiny_gltf.h>
+#include <nlohmann/json.hpp>
 
 namespace gltfwarp::test {
 
@@ -52,8 +52,8 @@ int add_primitive(tinygltf::Model& m, const MeshSpec& spec, int material);
 struct VariedModel {
   std::string name;
   tinygltf::Model model;
-  std::string container = ".glb";     // .glb or .gltf
-  bool expect_implicit = true;        // at least one primitive loses TEXCOORD_0
+  std::string container = ".glb";  // .glb or .gltf
+  bool expect_implicit = true;     // at least one primitive loses TEXCOORD_0
   // Extra checks on the encoded model (empty: none).
   std::function<void(const tinygltf::Model& encoded, const std::string& report)> check_encoded;
 };

@@ -1,0 +1,135 @@
+// Measures of a laid-out partition: distortion, flips, seams, fill, holes.
+// The paper's distortion measure is Sorkine & Cohen-Or 2001, section 3.
+#include "codec/core/layout_report.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "codec/core/distortion.h"
+#include "codec/core/layout.h"
+#include "codec/core/topology.h"
+
+namespace gltfwarp {
+
+double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(length3_sq(m, u, w)); }
+
+double face_area3(const TriMesh& m, uint32_t f) {
+  const float* p = m.positions.data();
+  const uint32_t* t = &m.indices[3 * f];
+  double e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
+    e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
+  }
+  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
+               cz = e1[0] * e2[1] - e1[1] * e2[0];
+  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+}
+
+// Distortion of face f with its corners at P (paper's measure).
+double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]) {
+  const uint32_t* t = &m.indices[3 * f];
+  double l3[3], l2[3];
+  for (int k = 0; k < 3; ++k) {
+    const int a = (k + 1) % 3, b = (k + 2) % 3;
+    l3[k] = length3(m, t[a], t[b]);
+    const double dx = P[a].x - P[b].x, dy = P[a].y - P[b].y;
+    l2[k] = std::sqrt(dx * dx + dy * dy);
+  }
+  return triangle_distortion(l3, l2);
+}
+
+// Area of the patch's triangles over the area of the min-area rectangle of
+// its corners (1 for an empty or zero-area patch).
+double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy, std::vector<Vec2>& scratch,
+                  double* area_out) {
+  scratch.clear();
+  double area = 0;
+  for (uint32_t f : faces) {
+    const double* c = &xy[6 * size_t{f}];
+    const Vec2 P[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
+    area += std::fabs(orient2d(P[0], P[1], P[2])) * 0.5;
+    scratch.insert(scratch.end(), P, P + 3);
+  }
+  if (area_out) *area_out = area;
+  const OrientedRect r = min_area_rect(convex_hull(scratch));
+  return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
+}
+
+EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                              uint32_t patch_count, std::span<const double> corner_xy, double tau) {
+  EmbedReport r;
+  const uint32_t nf = mesh.face_count();
+  if (!mesh_indices_valid(mesh) || patch_of_face.size() != nf || corner_xy.size() != size_t{nf} * 6) return r;
+  for (uint32_t f = 0; f < nf; ++f)
+    if (patch_of_face[f] >= patch_count) return r;
+  r.patch_count = patch_count;
+  r.face_count = nf;
+  double sum = 0, wsum = 0, wtot = 0;
+  uint32_t finite = 0;
+  r.max_distortion = nf ? 0.0 : 1.0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const double* c = &corner_xy[6 * size_t{f}];
+    const Vec2 P[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
+    const int s = orient2d_sign(P[0], P[1], P[2]);
+    r.flipped += s < 0;
+    r.zero_area += s == 0;
+    const double d = face_distortion(mesh, f, P);
+    r.max_distortion = std::max(r.max_distortion, d);
+    r.over_tau += !(d <= tau);
+    if (std::isfinite(d)) {
+      const double a = face_area3(mesh, f);
+      sum += d, ++finite;
+      wsum += a * d, wtot += a;
+    }
+  }
+  r.mean_distortion = finite ? sum / finite : 1.0;
+  r.area_mean_distortion = wtot > 0 ? wsum / wtot : r.mean_distortion;
+
+  const VertexFaces vf = build_vertex_faces(mesh);
+  const std::vector<uint32_t> opp = build_opposite_corners(mesh, vf);
+  for (size_t c = 0; c < opp.size(); ++c) {
+    const uint32_t o = opp[c];
+    if (o == kNone || o < c) continue;
+    ++r.interior_edges;
+    if (patch_of_face[c / 3] != patch_of_face[o / 3]) {
+      ++r.seam_edges;
+      const uint32_t f = uint32_t(c / 3), k = uint32_t(c % 3);
+      r.seam_length += length3(mesh, mesh.indices[3 * f + (k + 1) % 3], mesh.indices[3 * f + (k + 2) % 3]);
+    }
+  }
+  // Per patch: fill, and holes (1-3 faces whose every edge borders one other patch).
+  std::vector<uint32_t> off, pf;
+  faces_by_patch(patch_of_face, patch_count, off, pf);
+  const std::vector<double> xy(corner_xy.begin(), corner_xy.end());
+  std::vector<Vec2> scratch;
+  double fsum = 0, fw = 0;
+  for (uint32_t p = 0; p < patch_count; ++p) {
+    const std::span<const uint32_t> faces(pf.data() + off[p], off[p + 1] - off[p]);
+    double area = 0;
+    const double fl = patch_fill(faces, xy, scratch, &area);
+    fsum += area * fl, fw += area;
+    if (faces.size() > 3) continue;
+    uint32_t other = kNone;
+    bool hole = true;
+    for (uint32_t f : faces)
+      for (int k = 0; k < 3 && hole; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone) {
+          hole = false;
+          break;
+        }
+        const uint32_t q = patch_of_face[o / 3];
+        if (q == p) continue;
+        if (other == kNone)
+          other = q;
+        else if (other != q)
+          hole = false;
+      }
+    r.holes += hole && other != kNone;
+  }
+  r.fill = fw > 0 ? fsum / fw : 1.0;
+  return r;
+}
+
+}  // namespace gltfwarp

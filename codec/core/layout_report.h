@@ -1,0 +1,50 @@
+// Measures of a laid-out partition, whoever made it: the encoder's growth,
+// the decoder's replay or `gltf-warp info` on a decoded file. Pure functions
+// over the mesh, the patch of every face and the corners' 2D positions.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/core/geometry2d.h"
+#include "codec/core/mesh.h"
+
+namespace gltfwarp {
+
+// Quality of an embedding. All figures are over the faces of one mesh.
+struct EmbedReport {
+  uint32_t patch_count = 0;
+  uint32_t face_count = 0;
+  double max_distortion = 1.0;        // over faces (degenerate faces included; see distortion.h)
+  double mean_distortion = 1.0;       // unweighted over faces with a finite distortion
+  double area_mean_distortion = 1.0;  // weighted by 3D face area
+  uint32_t over_tau = 0;              // faces above tau (given to measure_embedding)
+  uint32_t flipped = 0;               // 2D signed area < 0 (exact)
+  uint32_t zero_area = 0;             // 2D signed area == 0 (exact)
+  uint32_t seam_edges = 0;            // manifold interior edges whose two faces lie in different patches
+  double seam_length = 0;             // their 3D length
+  uint32_t interior_edges = 0;        // all manifold interior edges
+  double fill = 0;                    // area-weighted mean of patch 2D area / its min-area-rect area
+  uint32_t holes = 0;                 // patches of 1-3 faces whose every edge borders one other patch
+};
+
+// Pure: measures any partition with its replayed corner positions.
+EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
+                              uint32_t patch_count, std::span<const double> corner_xy, double tau = 1.3);
+
+// 3D length of the edge u-w, and 3D area of face f (double).
+double length3(const TriMesh& m, uint32_t u, uint32_t w);
+double face_area3(const TriMesh& m, uint32_t f);
+
+// Distortion of face f with its corners at P (the paper's measure,
+// distortion.h).
+double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]);
+
+// Area of the patch's triangles over the area of the min-area rectangle of
+// its corners (1 for an empty or zero-area patch); the triangles' 2D area
+// goes to *area_out when given. `scratch` is reused storage.
+double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy, std::vector<Vec2>& scratch,
+                  double* area_out = nullptr);
+
+}  // namespace gltfwarp

@@ -1,0 +1,122 @@
+// Orientation and packing of patches into atlas pages.
+//
+// Sources: each patch is turned to fit its minimal bounding rectangle, as in
+// Sorkine & Cohen-Or, "Warped Textures for UV Mapping Encoding" (Eurographics
+// 2001 short paper, section 4), found by rotating calipers on the convex hull
+// (codec/core/geometry2d.h), then quantized to the format's rotation code. Packing goes
+// beyond the paper (it left compact packing as future work): the patches' true
+// shapes, rasterised conservatively and dilated by half the gutter, go to the
+// lowest free position on an occupancy bitmap of cells (bottom-left fill,
+// Chazelle 1983; on raster masks as in xatlas' brute-force packer), so small
+// patches fill the holes that large ones leave. PackMethod::skyline instead
+// drops them onto a skyline of cell columns ("tetris" packing, Levy et al.,
+// "Least Squares Conformal Maps", SIGGRAPH 2002, section 5). Both try four
+// 90 degree turns and several page widths, keeping the smallest page.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/core/mesh.h"
+#include "format/bitstream/uvmap.h"
+
+namespace gltfwarp {
+
+// One primitive of an atlas group: its decoded mesh, partition and the
+// patch-local corner positions from layout_patches.
+struct PackPrimitive {
+  const TriMesh* mesh = nullptr;
+  std::span<const uint32_t> patch_of_face;  // one per face
+  uint32_t patch_count = 0;
+  std::span<const double> corner_xy;  // 2 per corner (6 per face), model units
+  // Optional: source texels per model unit of each face (triangle_texel_density).
+  // With PackOptions::per_patch_scale, each patch's scale_step is the ratio of
+  // its source density to the whole set's (RMS, area-weighted): the budget
+  // texel_scale sets is redistributed to where the source had its detail.
+  std::span<const double> face_density;
+  // Optional, one per patch: scale steps added to each patch's step (after
+  // the density rule), e.g. negative where the content is smooth enough to
+  // keep its quality with fewer texels.
+  std::span<const int32_t> scale_step_bias;
+  std::span<const uint32_t> seeds;  // empty (lowest faces) or one per patch: copied to UvMap::seeds
+};
+
+enum class SizeRounding : uint8_t {
+  multiple_of_4,  // width and height rounded up to a multiple of 4 (block compression friendly)
+  power_of_two,   // width and height rounded up to powers of two
+};
+
+enum class PackMethod : uint8_t {
+  bitmap,   // bottom-left fill of true shapes on a cell bitmap (holes get filled)
+  skyline,  // drop true shapes onto a skyline (faster, leaves holes under overhangs)
+};
+
+struct PackOptions {
+  double texel_scale = 0;          // texels per model unit; must be > 0 (see auto_texel_scale)
+  uint32_t gutter = 4;             // min empty texels between two patches (half of it at page edges)
+  uint32_t max_atlas_size = 4096;  // max page width and height in texels
+  uint32_t max_pages = 1;          // > 1: spill into more max-size pages before shrinking the scale
+  SizeRounding rounding = SizeRounding::multiple_of_4;
+  bool rotate_90 = true;  // also try 90, 180, 270 degree turns of each patch
+  PackMethod method = PackMethod::bitmap;
+  bool per_patch_scale = true;   // use PackPrimitive::face_density when given
+  int32_t min_scale_step = -16;  // per-patch scale range, in format steps of 2^(1/4):
+  int32_t max_scale_step = 12;   // 1/16 .. 8 times texel_scale
+  // How a patch's density comes from its faces' face_density: the area-weighted
+  // quantile density_quantile (0.5: the median; 0.9 costs Duck 25% more
+  // bytes for no measurable gain), or with density_quantile <= 0 the RMS
+  // (texel-count preserving) mean.
+  double density_quantile = 0.5;
+  // > 0: a patch's scale is texel_scale * (its density / density_reference),
+  // so texel_scale / density_reference scales every patch alike. 0: relative
+  // to the whole set's RMS density (the budget texel_scale sets is only
+  // redistributed).
+  double density_reference = 0;
+  uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
+  bool true_shapes = true;                 // false: pack each patch's bounding rectangle (for comparison)
+  uint32_t search_depth = 3;               // bitmap: search holes down to this many patch heights
+                                           // above the lowest skyline point (bounds the work)
+  uint32_t cell = 0;                       // packing raster cell in texels; 0 = auto (1..4 by atlas size)
+  double shrink_factor = 0.92;             // texel scale factor per retry when a page would be too large
+  uint32_t max_retries = 60;               // give up (status too_large) after this many shrinks
+};
+
+enum class PackStatus : uint8_t {
+  ok = 0,
+  bad_input,  // null mesh, size mismatch, patch id out of range, texel_scale <= 0
+  too_large,  // could not fit even after max_retries shrinks
+};
+const char* to_string(PackStatus s);
+
+struct PackReport {
+  uint32_t atlas_width = 0, atlas_height = 0, page_count = 0;
+  uint32_t patch_count = 0;  // over all primitives
+  double texel_scale = 0;    // final scale (lower than asked if the atlas had to shrink)
+  uint32_t shrink_retries = 0;
+  uint64_t atlas_texels = 0;    // width * height * pages
+  uint64_t covered_texels = 0;  // texels whose centre lies in a placed triangle
+  double fill = 0;              // covered_texels / atlas_texels
+  uint64_t overlap_texels = 0;  // texel centres covered by two different patches (must be 0)
+  uint64_t outside_texels = 0;  // texel centres of placed triangles outside their page (must be 0)
+  double seconds = 0;           // wall time of pack_atlas
+};
+
+struct PackResult {
+  std::vector<UvMap> maps;  // one per primitive, in input order (tau left at its default)
+  PackReport report;
+};
+
+PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& options, PackResult& result);
+
+// texel = s * R(rotation) * p + (x, y) with s = texel_scale * patch_scale(step):
+// per-corner texel-space positions (not divided by the page size) for one
+// primitive, using the format's exact rotation table.
+void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
+                          std::vector<double>& corner_texel);
+
+// Counts, for the report, texel centres covered by triangles of two patches and
+// outside their page, rasterising every triangle of every primitive.
+void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> maps, PackReport& report);
+
+}  // namespace gltfwarp

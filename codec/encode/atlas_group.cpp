@@ -1,0 +1,384 @@
+// The encoder's decisions per atlas group (finish_implicit_uvs): build the
+// group's atlas (group_atlas.h: density, packing, bitstreams, warp, coding,
+// quality), raise its density to the quality floor, spend the headroom
+// above it, then either commit it (bitstreams into the primitives, atlases
+// into the materials) or give the group back its explicit UVs.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <set>
+
+#include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/group_atlas.h"
+#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "format/gltf/draco_geometry.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_materials.h"
+
+namespace gltfwarp {
+namespace {
+
+int add_clamp_sampler(tinygltf::Model& model) {
+  tinygltf::Sampler s;
+  s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  s.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
+  model.samplers.push_back(s);
+  return static_cast<int>(model.samplers.size() - 1);
+}
+
+}  // namespace
+
+// Largest image (by texel count) that the primitive's TEXCOORD_0 slots
+// sample, as its UVs see it: a KHR_texture_transform scales the
+// texels per UV unit (gltfpack writes UVs quantized to [0, 1/16] with a
+// 16x transform), so its scale is folded into the size. 0 x 0 when none has
+// a readable size. Also used by prepare_implicit_primitive
+// (implicit_uv_encoder.cpp) for the partition's density rule, so both see
+// the same per-face density.
+void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
+                       uint32_t& height) {
+  width = height = 0;
+  double best = 0;
+  for (const auto& s : primitive_uv0_slots(model, prim)) {
+    const int image = texture_image(model, s.texture);
+    int iw = 0, ih = 0;
+    std::string err;
+    if (!image_size(model.images[image].image, iw, ih, err) || iw <= 0 || ih <= 0) continue;
+    // Texels per UV unit along u and v: exact for an axis-aligned transform
+    // (scale, offset, half turns), the area-preserving mean when it turns.
+    const auto& m = s.transform;
+    double su = std::abs(m[0]), sv = std::abs(m[4]);
+    if (m[1] != 0 || m[3] != 0) su = sv = std::sqrt(std::abs(m[0] * m[4] - m[1] * m[3]));
+    if (!std::isfinite(su) || !std::isfinite(sv)) continue;
+    constexpr double kMaxSide = double(1 << 24);
+    const double ew = std::clamp(iw * su, 1.0, kMaxSide), eh = std::clamp(ih * sv, 1.0, kMaxSide);
+    if (ew * eh > best) {
+      best = ew * eh;
+      width = static_cast<uint32_t>(std::lround(ew));
+      height = static_cast<uint32_t>(std::lround(eh));
+    }
+  }
+}
+
+namespace {
+
+// The group's primitives get their bitstreams, its materials the atlases.
+void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                        GroupAtlas& built, EncodeReport& report, int& clamp_sampler,
+                        std::vector<int>& retired_textures) {
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    const UvMap& map = built.maps[k];
+    auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+    tinygltf::Value::Object obj;
+    obj[ext::kBufferView] = tinygltf::Value(add_buffer_view(model, built.bitstreams[k]));
+    obj[ext::kTexCoord] = tinygltf::Value(0);
+    obj[ext::kAtlasWidth] = tinygltf::Value(static_cast<int>(map.atlas_width));
+    obj[ext::kAtlasHeight] = tinygltf::Value(static_cast<int>(map.atlas_height));
+    if (ip.had_tangents) obj["tangents"] = tinygltf::Value(true);
+    prim.extensions[ext::kName] = tinygltf::Value(obj);
+    declare_extension(model, ext::kName, true);
+    auto& pr = report.primitives[ip.report_index];
+    pr.bitstream_bytes = built.bitstreams[k].size();
+    pr.atlas = static_cast<int>(report.atlases.size());
+  }
+  // Each page's members sample that page's images: the first page a
+  // material is used on keeps it, every later page gets a copy of it (taken
+  // before any slot is retargeted). A group material no member uses follows
+  // the first page, as with one page.
+  std::map<std::pair<int, uint32_t>, int> material_on_page;  // (group material, page) -> material
+  std::set<int> placed;
+  for (uint32_t page = 0; page < built.pages.size(); ++page)
+    for (size_t k : built.pages[page]) {
+      const auto& ip = plan.prims[group.members[k]];
+      auto& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+      for (const int mat : primitive_materials(prim)) {  // its own and its variants'
+        if (std::find(group.materials.begin(), group.materials.end(), mat) == group.materials.end()) continue;
+        auto [it, fresh] = material_on_page.try_emplace({mat, page}, mat);
+        if (fresh && !placed.insert(mat).second) {
+          tinygltf::Material copy = model.materials[mat];
+          copy.name += (copy.name.empty() ? "page " : " (page ") + std::to_string(page + 1) +
+                       (copy.name.empty() ? "" : ")");
+          model.materials.push_back(std::move(copy));
+          it->second = static_cast<int>(model.materials.size() - 1);
+        }
+        replace_primitive_material(prim, mat, it->second);
+      }
+    }
+  for (int mat : group.materials)
+    if (placed.insert(mat).second) material_on_page[{mat, 0}] = mat;
+  std::map<std::pair<JobKey, uint32_t>, int> made;  // (slot source, page) -> new texture
+  for (WarpJob& job : built.jobs) {
+    tinygltf::Image img;
+    const auto& src = model.images[job.image];
+    img.name = src.name.empty() ? "atlas" : src.name + "_atlas";
+    if (job.page > 0) img.name += std::to_string(job.page + 1);
+    img.mimeType = job.mime;
+    img.image = std::move(job.bytes);
+    img.as_is = true;
+    model.images.push_back(std::move(img));
+    if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
+    tinygltf::Texture tex;
+    tex.source = static_cast<int>(model.images.size() - 1);
+    tex.sampler = clamp_sampler;
+    model.textures.push_back(tex);
+    made[{job.key, job.page}] = static_cast<int>(model.textures.size() - 1);
+  }
+  // Slots as the source had them: retargeting must not change what later
+  // slots see.
+  std::map<int, std::vector<TextureSlot>> source_slots;
+  for (int mat : group.materials) source_slots[mat] = texture_slots(model, mat);
+  for (const auto& [mat_page, target] : material_on_page)
+    for (TextureSlot slot : source_slots[mat_page.first]) {
+      if (slot.tex_coord != 0) continue;
+      const JobKey key{texture_image(model, slot.texture), model.textures[slot.texture].sampler,
+                       slot.transform, static_cast<int>(slot.color_space), slot.normal_map};
+      const auto it = made.find({key, mat_page.second});
+      if (it == made.end()) continue;
+      retired_textures.push_back(slot.texture);
+      slot.material = target;
+      retarget_slot(model, slot, it->second);
+    }
+  report.atlases.push_back(built.report);
+}
+
+// The group's primitive goes back to explicit UVs: its source accessors
+// (still in the model until compact_buffers) are written as plain Draco, or
+// raw, like any primitive without implicit UVs.
+std::string restore_explicit_uvs(tinygltf::Model& model, const ImplicitPrimitive& ip,
+                                 const EncodeOptions& options, std::vector<int>& replaced,
+                                 PrimitiveReport& pr, const std::string& why) {
+  tinygltf::Primitive& prim = model.meshes[ip.mesh].primitives[ip.primitive];
+  PrimitiveGeometry geom;
+  pr.geometry_bytes = 0;
+  pr.bitstream_bytes = 0;
+  pr.patches = 0;
+  pr.atlas = -1;
+  if (std::string err =
+          rewrite_explicit(model, prim, ip.source_primitive, options, replaced, geom, pr.geometry_bytes);
+      !err.empty())
+    return err;
+  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+  return {};
+}
+
+// What the primitive's geometry costs with its explicit UVs: the source
+// primitive as restore_explicit_uvs would write it (Draco, or raw arrays).
+// 0 when it cannot be measured (the comparison then favours the atlas).
+size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimitive& ip,
+                               const EncodeOptions& options) {
+  PrimitiveGeometry geom;
+  if (!read_primitive(model, ip.source_primitive, geom).empty()) return 0;
+  if (options.raw_geometry) return plain_geometry_bytes(geom);
+  if (!non_finite_attribute(geom).empty()) return 0;
+  const DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options.draco);
+  return enc.error.empty() ? enc.bytes.size() : 0;
+}
+
+// Bytes of the source images that the group's atlas would make redundant:
+// images whose every use, in every material, is a TEXCOORD_0 slot of one of
+// the group's materials. An image that something else samples stays in the
+// file whatever the group does.
+size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group,
+                                const GroupAtlas& built) {
+  std::set<int> images;
+  for (const WarpJob& job : built.jobs) images.insert(job.image);
+  for (int m = 0; m < int(model.materials.size()); ++m) {
+    const bool ours = std::find(group.materials.begin(), group.materials.end(), m) != group.materials.end();
+    for (const TextureSlot& slot : texture_slots(model, m))
+      if (!ours || slot.tex_coord != 0) images.erase(texture_image(model, slot.texture));
+  }
+  size_t bytes = 0;
+  for (int i : images) bytes += model.images[i].image.size();
+  return bytes;
+}
+
+// Smooth content keeps its quality with fewer texels. Each round measures
+// every patch at two scale steps less than now (half its texels), then
+// gives the smaller scale to the patches that buy the most texels for the
+// least added error, while the group's error stays under the floor (plus
+// half a dB of margin), and while the images are already no larger than
+// their sources, above the quality goal too (or where it is, if below). A
+// round's result is kept only if its own measurement holds the floor and its
+// images are smaller; otherwise the previous atlas is rebuilt and the search
+// stops.
+std::string spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                                   const EncodeOptions& options, SourceImages& sources, double factor,
+                                   double min_psnr, GroupAtlas& built) {
+  constexpr int32_t kStep = -2;
+  StepBias bias(group.members.size());
+  for (size_t k = 0; k < group.members.size(); ++k)
+    bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
+  const size_t source_bytes = replaceable_source_bytes(model, group, built);
+  bool plan_follows_built = true;  // the plan's UVs are those of the last build
+  for (int round = 0; round < options.adaptive_rounds; ++round) {
+    // Images already within their sources' bytes give up no quality below
+    // the goal: an atlas under it stays as it is, one above it goes no lower.
+    double target = min_psnr + 0.5;
+    if (built.report.atlas_image_bytes <= source_bytes)
+      target = std::max(target, std::min(options.goal_psnr, built.error.psnr()));
+    const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, target / 10.0);
+    StepBias all_down = bias;
+    for (auto& b : all_down)
+      for (int32_t& step : b) step += kStep;
+    GroupAtlas down;
+    std::string err = measure_group_atlas(model, plan, group, options, sources, factor, all_down, down);
+    if (!err.empty()) return err;
+    plan_follows_built = false;
+    if (down.capped || down.patch_error.size() != built.patch_error.size()) break;
+    double squared = built.error.squared;
+    struct Choice {
+      uint32_t patch;
+      double added, saved;
+    };
+    std::vector<Choice> choices;
+    for (uint32_t p = 0; p < built.patch_count; ++p) {
+      const double saved = built.patch_texels[p] - down.patch_texels[p];
+      if (!(saved > 0) || built.patch_error[p].values == 0) continue;
+      choices.push_back({p, down.patch_error[p].squared - built.patch_error[p].squared, saved});
+    }
+    std::sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
+      return a.added * b.saved < b.added * a.saved;  // least added error per texel saved first
+    });
+    std::vector<uint8_t> lower(built.patch_count, 0);
+    size_t taken = 0;
+    for (const Choice& c : choices) {
+      if (squared + c.added > budget) break;
+      squared += c.added;
+      lower[c.patch] = 1;
+      ++taken;
+    }
+    if (taken == 0) break;
+    StepBias next = bias;
+    for (size_t k = 0, offset = 0; k < next.size(); ++k) {
+      for (size_t p = 0; p < next[k].size(); ++p)
+        if (lower[offset + p]) next[k][p] += kStep;
+      offset += next[k].size();
+    }
+    GroupAtlas chosen;
+    err = build_group_atlas(model, plan, group, options, sources, factor, next, chosen);
+    if (!err.empty()) return err;
+    // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
+    // checker compresses worse): keep a round only if the bytes fell too.
+    if (chosen.error.values > 0 && chosen.floor_psnr() >= min_psnr && !chosen.capped &&
+        chosen.report.atlas_image_bytes < built.report.atlas_image_bytes) {
+      built = std::move(chosen);
+      bias = std::move(next);
+      plan_follows_built = true;
+      continue;
+    }
+    // Back to the last kept atlas (the UVs in the plan follow the last build).
+    return build_group_atlas(model, plan, group, options, sources, factor, bias, built);
+  }
+  // The last build may have been a measurement: the plan's UVs must be built's.
+  return plan_follows_built ? std::string()
+                            : build_group_atlas(model, plan, group, options, sources, factor, bias, built);
+}
+
+// The group's atlas at the first density factor, then at each later one
+// while it stays below the quality floor (and more density can still help).
+std::string build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                           const EncodeOptions& options, SourceImages& sources,
+                           const std::vector<double>& factors, double min_psnr, GroupAtlas& built,
+                           double& factor_used) {
+  for (double factor : factors) {
+    std::string err = build_group_atlas(model, plan, group, options, sources, factor, {}, built);
+    if (!err.empty()) return err;
+    factor_used = factor;
+    if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= min_psnr || built.capped) break;
+  }
+  return {};
+}
+
+}  // namespace
+
+std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                std::vector<int>& replaced, EncodeReport& report) {
+  plan.seam_textures.clear();  // the partitions are made
+  plan.seam_materials.clear();
+  int clamp_sampler = -1;
+  std::vector<int> retired_textures;  // source textures the atlases replaced
+  const bool auto_density = !(options.texel_density > 0);
+  // The quality floor holds by default for the default density only: a
+  // chosen density (or factor) is a chosen trade-off.
+  const double min_psnr = options.min_psnr >= 0
+                              ? options.min_psnr
+                              : (auto_density && options.texel_density_factor == 1.0 ? 38.0 : 0.0);
+  std::vector<double> factors = {options.texel_density_factor};
+  if (auto_density && min_psnr > 0)
+    for (double boost : options.density_boosts) factors.push_back(options.texel_density_factor * boost);
+  // The group's primitives keep their explicit UVs; the report says why.
+  auto keep_explicit = [&](const AtlasGroup& group, const std::string& why) -> std::string {
+    for (size_t m : group.members) {
+      auto& pr = report.primitives[plan.prims[m].report_index];
+      std::string err = restore_explicit_uvs(model, plan.prims[m], options, replaced, pr, why);
+      if (!err.empty()) return err;
+      report.notes.push_back("mesh " + std::to_string(pr.mesh) + " primitive " +
+                             std::to_string(pr.primitive) + ": " + pr.handling);
+      plan.group_of.erase({pr.mesh, pr.primitive});
+    }
+    return {};
+  };
+  for (size_t gi = 0; gi < plan.groups.size(); ++gi) {
+    auto& group = plan.groups[gi];
+    if (group.members.empty()) continue;
+    if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
+    GroupAtlas built;
+    SourceImages sources;
+    double factor_used = factors[0];
+    if (std::string err =
+            build_to_floor(model, plan, group, options, sources, factors, min_psnr, built, factor_used);
+        !err.empty())
+      return err;
+    if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
+        built.floor_psnr() >= min_psnr + 0.5) {
+      std::string err =
+          spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
+      if (!err.empty()) return err;
+    }
+    const double psnr = built.floor_psnr();
+    if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
+      char why[160];
+      std::snprintf(why, sizeof why,
+                    "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", psnr,
+                    built.report.density_factor, built.capped ? " (held by --max-atlas-size)" : "", min_psnr);
+      if (std::string err = keep_explicit(group, why); !err.empty()) return err;
+      continue;
+    }
+    // The method exists to save bytes: when the atlas and the bitstreams
+    // cost more than the source images and explicit UVs would (fine text,
+    // tiny quads carrying big images), keep the explicit UVs.
+    if (options.quality_fallback) {
+      size_t implicit_bytes = built.report.atlas_image_bytes;
+      size_t explicit_bytes = replaceable_source_bytes(model, group, built);
+      for (size_t k = 0; k < group.members.size(); ++k) {
+        const ImplicitPrimitive& ip = plan.prims[group.members[k]];
+        implicit_bytes += report.primitives[ip.report_index].geometry_bytes + built.bitstreams[k].size();
+      }
+      // Explicit geometry costs a Draco encode to measure; skip it when the
+      // saved images alone already outweigh everything the map costs.
+      if (implicit_bytes > explicit_bytes)
+        for (size_t m : group.members)
+          explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
+      if (implicit_bytes > explicit_bytes) {
+        char why[200];
+        std::snprintf(why, sizeof why,
+                      "smaller: %zu bytes of geometry and images, against %zu with the implicit map "
+                      "and a %.1f dB atlas",
+                      explicit_bytes, implicit_bytes, built.floor_psnr());
+        if (std::string err = keep_explicit(group, why); !err.empty()) return err;
+        continue;
+      }
+    }
+    commit_group_atlas(model, plan, group, built, report, clamp_sampler, retired_textures);
+  }
+  drop_unused_textures(model, retired_textures);
+  if (options.progress) options.progress("atlas", 1.0);
+  return {};
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,611 @@
+#include "codec/encode/implicit_uv_encoder.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numeric>
+#include <set>
+
+#include "codec/core/corner_match.h"
+#include "codec/decode/embedding_mesh.h"
+#include "codec/encode/atlas/pack.h"
+#include "codec/encode/atlas/pages.h"
+#include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/cut_primitive.h"
+#include "codec/encode/partition/embed.h"
+#include "codec/encode/partition/source_charts.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/seam_continuity.h"
+#include "codec/encode/texture/texture_sampler.h"
+#include "codec/encode/texture/warp.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/extension.h"
+#include "format/gltf/gltf_materials.h"
+
+namespace gltfwarp {
+
+namespace {
+
+struct UnionFind {
+  std::vector<int> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); }
+  void join(int a, int b) { parent[find(a)] = find(b); }
+};
+
+// Largest distance between a source position and its Draco-decoded copy.
+double quantization_tolerance(const VertexAttribute& pos, int bits) {
+  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
+  for (size_t e = 0; e < pos.count(); ++e)
+    for (int i = 0; i < 3; ++i) {
+      lo[i] = std::min<double>(lo[i], pos.get(e, i));
+      hi[i] = std::max<double>(hi[i], pos.get(e, i));
+    }
+  double range = 0;
+  for (int i = 0; i < 3; ++i) range = std::max(range, hi[i] - lo[i]);
+  const double step = range / double((1u << std::clamp(bits, 1, 30)) - 1);
+  return step * 1.01 + 1e-7 * std::max(1.0, range);
+}
+
+// The primitive keeps explicit UVs after all: it gets its own copy of its
+// material (the original is warped for the group's other members, if any)
+// and leaves the plan. pr.handling says why; the caller writes the geometry.
+std::string fall_back(tinygltf::Model& model, tinygltf::Primitive& prim, ImplicitPlan& plan,
+                      PrimitiveReport& pr, const std::string& why) {
+  for (const int material : primitive_materials(prim))
+    if (static_cast<size_t>(material) < model.materials.size()) {
+      model.materials.push_back(model.materials[material]);
+      replace_primitive_material(prim, material, static_cast<int>(model.materials.size() - 1));
+    }
+  plan.group_of.erase({pr.mesh, pr.primitive});
+  pr.handling = "fallback: explicit UVs kept (" + why + ")";
+  return {};
+}
+
+}  // namespace
+
+std::vector<TextureSlot> primitive_uv0_slots(const tinygltf::Model& model, const tinygltf::Primitive& prim) {
+  std::vector<TextureSlot> out;
+  for (const int material : primitive_materials(prim))
+    for (TextureSlot& s : texture_slots(model, material))
+      if (s.tex_coord == 0 && texture_image(model, s.texture) >= 0) out.push_back(std::move(s));
+  return out;
+}
+
+// The primitive's TEXCOORD_0 textures (those of every material it can show)
+// as a viewer samples them; empty when one cannot be read (the seam test
+// then hides no seam).
+std::vector<TextureSampler> uv0_samplers(const tinygltf::Model& model, const tinygltf::Primitive& prim) {
+  std::vector<TextureSampler> out;
+  for (const TextureSlot& slot : primitive_uv0_slots(model, prim)) {
+    TextureSampler t;
+    if (!load_slot_sampler(model, slot, t).empty()) return {};
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+std::string plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport& report) {
+  // Images we can decode (others make their primitives keep explicit UVs).
+  std::vector<int> decodable(model.images.size(), -1);
+  auto image_ok = [&](int img) {
+    if (decodable[img] < 0) {
+      std::string err;
+      int w = 0, h = 0;
+      // image_size reads KTX2 headers (for sizes), but only PNG/JPEG/WebP decode.
+      if (sniff_image_codec(model.images[img].image) == ImageCodec::ktx2) {
+        decodable[img] = 0;
+        err = "KTX2 images cannot be decoded and warped";
+      } else {
+        decodable[img] = image_size(model.images[img].image, w, h, err) ? 1 : 0;
+      }
+      if (!decodable[img])
+        report.notes.push_back("image " + std::to_string(img) +
+                               " kept as is, explicit UVs kept for its users: " + err);
+    }
+    return decodable[img] == 1;
+  };
+
+  struct Candidate {
+    int mesh, prim;
+    std::vector<int> images;
+  };
+  std::vector<Candidate> cands;
+  for (size_t mi = 0; mi < model.meshes.size(); ++mi)
+    for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      const auto& prim = model.meshes[mi].primitives[pi];
+      if (!is_triangle_mode(prim.mode) || !prim.targets.empty() || !prim.attributes.count("TEXCOORD_0"))
+        continue;
+      if (!prim.attributes.count("POSITION")) continue;
+      // A TEXCOORD_0 texture whose image we cannot reach or that also names
+      // an image through an extension (KHR_texture_basisu, EXT_texture_webp,
+      // ...) would keep sampling the old UVs: the primitive stays explicit.
+      // Every material the primitive can show counts: its own and those of
+      // its KHR_materials_variants, which all sample through the same UVs.
+      const std::vector<int> materials = primitive_materials(prim);
+      std::string blocker;
+      for (const int material : materials) {
+        for (const auto& s : texture_slots(model, material)) {
+          if (s.tex_coord != 0 || s.texture < 0 || static_cast<size_t>(s.texture) >= model.textures.size())
+            continue;
+          const auto& tex = model.textures[s.texture];
+          for (const auto& [name, ext] : tex.extensions)
+            if (ext.IsObject() && ext.Has("source"))
+              blocker = "texture " + std::to_string(s.texture) + " has an image in " + name;
+          if (blocker.empty() && texture_image(model, s.texture) < 0)
+            blocker = "texture " + std::to_string(s.texture) + " has no image";
+          if (!blocker.empty()) break;
+        }
+        if (!blocker.empty()) break;
+      }
+      if (!blocker.empty()) {
+        report.notes.push_back("mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) +
+                               ": explicit UVs kept, " + blocker + " that the warp cannot rewrite");
+        continue;
+      }
+      Candidate c{static_cast<int>(mi), static_cast<int>(pi), {}};
+      bool ok = true;
+      for (const auto& s : primitive_uv0_slots(model, prim)) {
+        const int img = texture_image(model, s.texture);
+        if (!image_ok(img)) ok = false;
+        c.images.push_back(img);
+      }
+      if (ok && !c.images.empty()) cands.push_back(std::move(c));
+    }
+  if (cands.empty()) return {};
+
+  // Primitives that share an image share an atlas.
+  UnionFind uf(cands.size());
+  std::map<int, size_t> first_user;
+  for (size_t i = 0; i < cands.size(); ++i)
+    for (int img : cands[i].images) {
+      auto [it, inserted] = first_user.emplace(img, i);
+      if (!inserted) uf.join(static_cast<int>(i), static_cast<int>(it->second));
+    }
+  std::map<int, int> group_index;
+  for (size_t i = 0; i < cands.size(); ++i) {
+    const int root = uf.find(static_cast<int>(i));
+    auto [it, inserted] = group_index.emplace(root, static_cast<int>(plan.groups.size()));
+    if (inserted) plan.groups.emplace_back();
+    plan.group_of[{cands[i].mesh, cands[i].prim}] = it->second;
+  }
+
+  // A material used by an implicit primitive and by one that keeps explicit
+  // UVs (as its own or as a variant) is cloned, so the explicit one keeps
+  // the original textures.
+  std::map<int, int> clone_of;
+  for (size_t mi = 0; mi < model.meshes.size(); ++mi)
+    for (size_t pi = 0; pi < model.meshes[mi].primitives.size(); ++pi) {
+      if (plan.is_implicit(static_cast<int>(mi), static_cast<int>(pi))) continue;
+      for (const int material : primitive_materials(model.meshes[mi].primitives[pi]))
+        clone_of.emplace(material, -1);
+    }
+  for (auto& c : cands) {
+    auto& prim = model.meshes[c.mesh].primitives[c.prim];
+    for (const int material : primitive_materials(prim)) {
+      auto it = clone_of.find(material);
+      if (it == clone_of.end() || static_cast<size_t>(material) >= model.materials.size()) continue;
+      if (it->second < 0) {
+        model.materials.push_back(model.materials[material]);
+        it->second = static_cast<int>(model.materials.size() - 1);
+      }
+      replace_primitive_material(prim, material, it->second);
+    }
+    auto& g = plan.groups[plan.group_of[{c.mesh, c.prim}]];
+    for (const int material : primitive_materials(prim))
+      if (static_cast<size_t>(material) < model.materials.size() &&
+          std::find(g.materials.begin(), g.materials.end(), material) == g.materials.end())
+        g.materials.push_back(material);
+  }
+  return {};
+}
+
+namespace {
+
+// The density the atlas will give the faces: per face (face_density, from
+// the layout and the source UVs) times the returned factor, or the fixed
+// --texel-density (face_density left empty).
+double atlas_density(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w, uint32_t image_h,
+                     const EncodeOptions& options, std::vector<double>& face_density) {
+  if (options.texel_density > 0) return options.texel_density;
+  face_density = layout_texel_density(er.corner_xy, ip.source_uv, image_w, image_h);
+  return options.texel_density_factor;
+}
+
+std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w,
+                                uint32_t image_h, const EncodeOptions& options) {
+  std::vector<double> face_density;
+  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
+  return estimated_face_texels(er.corner_xy, face_density, factor);
+}
+
+constexpr size_t kHalveChartsFromFaces = 100'000;
+
+// Part of each face when the source's texels alone pass one page (their
+// TEXCOORD_0 area times the largest image, or the 3D area at a fixed
+// density); empty otherwise. geom: the primitive as read_primitive gives it;
+// source_corner_uv: its TEXCOORD_0 per corner.
+std::vector<uint32_t> source_page_parts(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                        const PrimitiveGeometry& geom,
+                                        std::span<const float> source_corner_uv,
+                                        const EncodeOptions& options) {
+  uint32_t width = 0, height = 0;
+  largest_uv0_image(model, prim, width, height);
+  const VertexAttribute* pos = geom.find("POSITION");
+  // The layout stretches faces and the atlas matches the stretch (Duck: 1.27
+  // times the source's count): parts sized for 70% of a page by the source's
+  // count seldom need a second cut.
+  const double capacity = 0.7 * page_capacity(options.max_atlas_size);
+  if (options.max_pages <= 1 || width == 0 || !pos || pos->components != 3 || !(capacity > 0)) return {};
+  TriMesh mesh;  // built only when needed: for 3D areas, and for the cut
+  auto build_mesh = [&] {
+    if (mesh.indices.empty()) mesh = TriMesh{pos->to_floats(), geom.triangles};
+  };
+  if (options.texel_density > 0) build_mesh();
+  std::vector<double> texels(geom.triangles.size() / 3, 0.0);
+  double total = 0;
+  for (uint32_t f = 0; f < texels.size(); ++f) {
+    const double area = options.texel_density > 0
+                            ? face_area3d(mesh, f) * options.texel_density * options.texel_density
+                            : face_area_texels(source_corner_uv, f, width, height) *
+                                  options.texel_density_factor * options.texel_density_factor;
+    texels[f] = std::isfinite(area) ? area : 0.0;
+    total += texels[f];
+  }
+  if (!(total > capacity)) return {};
+  build_mesh();
+  // Halving a UV chart cuts through its texture: a new seam, where the cut
+  // along patches after the partition adds none but embeds the mesh twice.
+  // That second embedding only weighs on large meshes. Measured: a 3000-face
+  // sphere at --max-atlas-size 256 is 38.4 dB halved, 41.7 cut along
+  // patches; the 1M-face sample at 4096 encodes in 52 s halved, 81 s not.
+  const bool halve = texels.size() >= kHalveChartsFromFaces;
+  uint32_t parts = 0;
+  std::vector<uint32_t> part_of_face = within_part_count(
+      capacity, options.max_pages,
+      [&](double c, uint32_t& n) { return split_faces_into_parts(mesh, texels, c, halve, n); }, parts);
+  if (parts < 2) return {};
+  return part_of_face;
+}
+
+// When the primitive's patches would take more texels than one page holds
+// (at the density the atlas will give them, codec/encode/atlas/pages.h): the part of
+// each source face (read_primitive order), grouping whole patches so the
+// cut adds no seam. Empty: no cut (it fits, --max-pages 1, or one patch).
+std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& er, const CornerMatch& match,
+                                 size_t source_faces, uint32_t image_w, uint32_t image_h,
+                                 const EncodeOptions& options) {
+  if (options.max_pages <= 1 || image_w == 0 || er.patch_count < 2) return {};
+  std::vector<double> face_density;
+  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
+  const auto texels =
+      estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
+  double total = 0;
+  for (double t : texels) total += t;
+  const double capacity = page_capacity(options.max_atlas_size);
+  if (!(capacity > 0) || !(total > capacity)) return {};
+  uint32_t parts = 0;
+  const std::vector<uint32_t> part_of_patch = within_part_count(
+      capacity, options.max_pages,
+      [&](double c, uint32_t& n) { return parts_of_patches(ip.tri, er.patch_of_face, texels, c, n); }, parts);
+  if (parts < 2) return {};
+  // Back to the source's faces. A source face no decoded face came from
+  // (one Draco dropped as degenerate) goes to the first part.
+  std::vector<uint32_t> part_of_face(source_faces, UINT32_MAX);
+  for (size_t f = 0; f < er.patch_of_face.size(); ++f) {
+    const uint32_t source_face = match.source_corner[3 * f] / 3;
+    if (source_face >= source_faces) continue;
+    uint32_t& part = part_of_face[source_face];
+    if (part == UINT32_MAX) part = part_of_patch[er.patch_of_face[f]];
+  }
+  for (uint32_t& part : part_of_face)
+    if (part == UINT32_MAX) part = 0;
+  return part_of_face;
+}
+
+// Cuts the primitive (its source geometry `source`, one part per face) into
+// parts appended to its mesh, records the cut (undo_fallen_back_cuts) and
+// prepares the first part in its place; the encoder's loop reaches the
+// others.
+std::string cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& source,
+                                  std::span<const uint32_t> part_of_face, ImplicitPlan& plan,
+                                  const EncodeOptions& options, std::vector<int>& replaced,
+                                  PrimitiveReport& pr) {
+  const uint32_t parts = *std::max_element(part_of_face.begin(), part_of_face.end()) + 1;
+  const int group = plan.group_of.at({pr.mesh, pr.primitive});
+  PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
+  cut.appended = cut_primitive(model, pr.mesh, pr.primitive, source, part_of_face, parts, replaced);
+  for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
+  plan.cuts.push_back(std::move(cut));
+  tinygltf::Primitive& first = model.meshes[pr.mesh].primitives[pr.primitive];
+  PrimitiveGeometry part;
+  if (std::string err = read_primitive(model, first, part); !err.empty()) return err;
+  pr.triangles = part.triangles.size() / 3;
+  pr.vertices = part.vertex_count();
+  pr.geometry_bytes = 0;
+  pr.cut_parts = std::max(pr.cut_parts, parts);
+  return prepare_implicit_primitive(model, first, part, plan, options, replaced, pr);
+}
+
+}  // namespace
+
+std::string prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                       PrimitiveGeometry& geom, ImplicitPlan& plan,
+                                       const EncodeOptions& options, std::vector<int>& replaced,
+                                       PrimitiveReport& pr) {
+  ImplicitPrimitive ip;
+  ip.source_primitive = prim;
+  ip.mesh = pr.mesh;
+  ip.primitive = pr.primitive;
+  ip.had_tangents = geom.find("TANGENT") != nullptr;
+  const VertexAttribute* uv0 = geom.find("TEXCOORD_0");
+  if (!uv0 || uv0->components != 2) return fall_back(model, prim, plan, pr, "TEXCOORD_0 is not a VEC2");
+  std::vector<float> source_corner_uv(geom.triangles.size() * 2);
+  for (size_t c = 0; c < geom.triangles.size(); ++c)
+    for (int i = 0; i < 2; ++i) {
+      source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
+      if (!std::isfinite(source_corner_uv[2 * c + i])) return "TEXCOORD_0 holds a NaN or infinite value";
+    }
+  // Clearly more texels than one atlas page holds, by the source's own
+  // count: cut along the source's UV charts before the costly steps (Draco,
+  // the partition), so each part is embedded once. What this estimate
+  // misses (the layout's stretch) the cut along patches below catches.
+  if (std::vector<uint32_t> part_of_face = source_page_parts(model, prim, geom, source_corner_uv, options);
+      !part_of_face.empty())
+    return cut_and_prepare_first(model, geom, part_of_face, plan, options, replaced, pr);
+  // A source TANGENT is the frame viewers light the source's normal map in:
+  // the warp re-expresses normals from it (else from MikkTSpace on the UVs).
+  std::vector<float> source_corner_tangent;
+  if (const VertexAttribute* tan = geom.find("TANGENT"); tan && tan->components == 4) {
+    source_corner_tangent.resize(geom.triangles.size() * 4);
+    for (size_t c = 0; c < geom.triangles.size(); ++c)
+      for (int i = 0; i < 4; ++i) source_corner_tangent[4 * c + i] = tan->get(geom.triangles[c], i);
+  }
+  geom.erase("TEXCOORD_0");
+  geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
+  weld_vertices(geom.attributes, geom.triangles);
+  const VertexAttribute* src_pos = geom.find("POSITION");
+  if (!src_pos || src_pos->components != 3) return "POSITION is not a VEC3";
+  for (size_t e = 0; e < src_pos->count(); ++e)
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(src_pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+
+  if (geom.triangles.empty()) return fall_back(model, prim, plan, pr, "no triangles");
+
+  // The geometry is written to a trial copy of the primitive first: if the
+  // embedding fails, the primitive falls back to explicit UVs untouched, and
+  // whatever the trial appended is dropped by compact_buffers.
+  tinygltf::Primitive trial = prim;
+  std::vector<int> trial_replaced;
+  const size_t accessors_before = model.accessors.size();
+  double tolerance = 1e-9;
+  if (options.raw_geometry) {
+    write_primitive_plain(model, trial, geom, trial_replaced);
+    ip.decoded = geom;
+    pr.geometry_bytes += plain_geometry_bytes(geom);
+  } else {
+    std::string err = write_primitive_draco(model, trial, geom, options.draco, trial_replaced, ip.decoded,
+                                            pr.geometry_bytes);
+    if (!err.empty()) return err;
+    tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
+  }
+  auto discard_trial = [&](const std::string& why) {
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i)
+      replaced.push_back(static_cast<int>(i));
+    pr.geometry_bytes = 0;
+    return fall_back(model, prim, plan, pr, why);
+  };
+  if (ip.decoded.triangles.empty()) return discard_trial("no triangles left after Draco");
+
+  std::vector<uint32_t> point_to_vertex;
+  ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
+  const CornerMatch match =
+      match_corners(src_pos->to_floats(), geom.triangles, ip.decoded.find("POSITION")->to_floats(),
+                    ip.decoded.triangles, tolerance);
+  ip.source_uv.resize(ip.decoded.triangles.size() * 2);
+  for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
+    for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];
+  if (!source_corner_tangent.empty()) {
+    ip.source_tangents.resize(ip.decoded.triangles.size() * 4);
+    for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
+      for (int i = 0; i < 4; ++i)
+        ip.source_tangents[4 * c + i] = source_corner_tangent[4 * match.source_corner[c] + i];
+  }
+
+  EmbedOptions eo;
+  eo.tau = options.tau;
+  eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
+  // Density-aware partition: faces of very different source texel density
+  // land in different patches, so the per-patch scale can keep each one's detail.
+  uint32_t image_w = 0, image_h = 0;
+  largest_uv0_image(model, prim, image_w, image_h);
+  std::vector<double> face_density;
+  if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
+  eo.face_density = face_density;
+  std::vector<uint32_t> face_chart;
+  if (options.keep_source_charts && image_w > 0) {
+    // Seams the source's own textures hide do not bound charts. Measured
+    // (seams, images, dB): Duck 557 -> 516, 6.8 -> 6.5 KB, 41.7 -> 41.1;
+    // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
+    // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
+    // to 8/32: the seams crossed are ones where both sides show one colour.
+    // A seam is hidden only if every material the primitive can show hides it.
+    if (const std::vector<int> materials = primitive_materials(prim);
+        options.cross_hidden_seams && plan.seam_materials != materials) {
+      plan.seam_textures = uv0_samplers(model, prim);
+      plan.seam_materials = materials;
+    }
+    const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
+    face_chart =
+        source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());
+  }
+  eo.face_chart = face_chart;
+  // Inside one source chart densities rarely jump (artists give detail its
+  // own chart), so the density rule only guards the extreme cases there.
+  // Measured with charts: ratio 8 costs Duck 658 seams against 557 at 32 and
+  // 532 off, at the same 42.6 dB and bytes; CesiumMilkTruck is 284 KB at 8
+  // and 32 and 297 KB with the rule off.
+  if (!face_chart.empty()) eo.max_density_ratio = 32.0;
+  Embedding er = embed(ip.tri, eo);
+  if (er.status != LayoutStatus::ok)
+    return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  // A patch larger than a page could not go to pages (a flat ground plane
+  // under a big texture is one patch): its faces are split into regions of
+  // about half a page that no patch may cross, and the mesh is embedded
+  // again, a few times at most.
+  for (int round = 0; round < 3 && options.max_pages > 1 && image_w > 0; ++round) {
+    std::vector<uint32_t> regions = split_large_patches(ip.tri, er.patch_of_face, er.patch_count,
+                                                        face_texels(ip, er, image_w, image_h, options),
+                                                        page_capacity(options.max_atlas_size), face_chart);
+    if (regions.empty()) break;
+    face_chart = std::move(regions);
+    eo.face_chart = face_chart;
+    er = embed(ip.tri, eo);
+    if (er.status != LayoutStatus::ok)
+      return discard_trial(std::string("embedding failed: ") + to_string(er.status));
+  }
+
+  // Too many texels for one atlas page: cut along patch boundaries into
+  // parts of about a page each, and start again on the first part (the
+  // encoder's loop reaches the others, appended to the mesh).
+  if (std::vector<uint32_t> part_of_face =
+          page_parts(ip, er, match, geom.triangles.size() / 3, image_w, image_h, options);
+      !part_of_face.empty()) {
+    PrimitiveGeometry source;
+    if (std::string err = read_primitive(model, ip.source_primitive, source); !err.empty()) return err;
+    for (size_t i = accessors_before; i < model.accessors.size(); ++i)
+      replaced.push_back(static_cast<int>(i));
+    return cut_and_prepare_first(model, source, part_of_face, plan, options, replaced, pr);
+  }
+
+  // Commit: the trial becomes the primitive. TEXCOORD_0 stays declared,
+  // without data, as KHR_draco_mesh_compression does with the attributes it
+  // replaces: validators and loaders expect it.
+  prim = std::move(trial);
+  replaced.insert(replaced.end(), trial_replaced.begin(), trial_replaced.end());
+  tinygltf::Accessor decl;
+  decl.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
+  decl.type = TINYGLTF_TYPE_VEC2;
+  decl.count = ip.decoded.vertex_count();
+  model.accessors.push_back(decl);
+  prim.attributes["TEXCOORD_0"] = static_cast<int>(model.accessors.size() - 1);
+  ip.patch_of_face = std::move(er.patch_of_face);
+  ip.patch_count = er.patch_count;
+  ip.seeds = std::move(er.seeds);
+  ip.corner_xy = std::move(er.corner_xy);
+
+  pr.handling = options.raw_geometry ? "implicit-uv (raw geometry)" : "implicit-uv";
+  pr.patches = ip.patch_count;
+  pr.max_distortion = er.report.max_distortion;
+  pr.mean_distortion = er.report.mean_distortion;
+  pr.seam_edges = er.report.seam_edges;
+  pr.rect_fill = er.report.fill;
+  pr.holes = er.report.holes;
+  if (options.report_greedy && !options.greedy_partition) {
+    // The paper's plain growth on the same mesh, for comparison only.
+    EmbedOptions go = eo;
+    go.mode = PartitionMode::greedy;
+    const Embedding g = embed(ip.tri, go);
+    if (g.status == LayoutStatus::ok) {
+      pr.greedy.patches = g.patch_count;
+      pr.greedy.seam_edges = g.report.seam_edges;
+      pr.greedy.rect_fill = g.report.fill;
+      pr.greedy.holes = g.report.holes;
+    }
+  }
+  plan.prims.push_back(std::move(ip));
+  plan.groups[plan.group_of.at({pr.mesh, pr.primitive})].members.push_back(plan.prims.size() - 1);
+  // Rare: faces Draco moved beyond the tolerance; their UVs come from corner 0.
+  pr.unmatched_faces = match.unmatched_faces;
+  return {};
+}
+
+std::string rewrite_explicit(tinygltf::Model& model, tinygltf::Primitive& prim,
+                             const tinygltf::Primitive& source, const EncodeOptions& options,
+                             std::vector<int>& replaced, PrimitiveGeometry& geom, size_t& bytes) {
+  for (const auto& [semantic, accessor] : prim.attributes) replaced.push_back(accessor);
+  if (prim.indices >= 0) replaced.push_back(prim.indices);
+  prim = source;
+  bytes = 0;
+  if (std::string err = read_primitive(model, prim, geom); !err.empty()) return err;
+  if (options.raw_geometry) {
+    write_primitive_plain(model, prim, geom, replaced);
+    bytes = plain_geometry_bytes(geom);
+    return {};
+  }
+  PrimitiveGeometry decoded;
+  return write_primitive_draco(model, prim, geom, options.draco, replaced, decoded, bytes);
+}
+
+namespace {
+
+// The primitive a note names by its opening "mesh M primitive P" (how the
+// encoder's notes start), and where the rest of the note begins.
+bool note_names(const std::string& note, int& mesh, int& primitive, size_t& rest) {
+  int used = 0;
+  if (std::sscanf(note.c_str(), "mesh %d primitive %d%n", &mesh, &primitive, &used) != 2) return false;
+  rest = size_t(used);
+  return true;
+}
+
+}  // namespace
+
+std::string undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const EncodeOptions& options,
+                                  std::vector<int>& replaced, EncodeReport& report) {
+  auto entry = [&](int mesh, int primitive) -> PrimitiveReport* {
+    for (PrimitiveReport& pr : report.primitives)
+      if (pr.mesh == mesh && pr.primitive == primitive) return &pr;
+    return nullptr;
+  };
+  auto is_fallback = [](const PrimitiveReport* pr) { return pr && pr->handling.rfind("fallback", 0) == 0; };
+  std::map<int, std::vector<int>> erased;  // mesh -> primitives to erase
+  for (auto cut = plan.cuts.rbegin(); cut != plan.cuts.rend(); ++cut) {
+    PrimitiveReport* first = entry(cut->mesh, cut->primitive);
+    if (!is_fallback(first) || !std::all_of(cut->appended.begin(), cut->appended.end(),
+                                            [&](int p) { return is_fallback(entry(cut->mesh, p)); }))
+      continue;
+    PrimitiveGeometry geom;
+    if (std::string err = rewrite_explicit(model, model.meshes[cut->mesh].primitives[cut->primitive],
+                                           cut->original, options, replaced, geom, first->geometry_bytes);
+        !err.empty())
+      return err;
+    first->triangles = geom.triangles.size() / 3;
+    first->vertices = geom.vertex_count();
+    first->cut_parts = 0;
+    // The parts' lines in the report and the notes go, and the note of the
+    // cut; the whole's other notes stay.
+    for (int p : cut->appended) erased[cut->mesh].push_back(p);
+    std::erase_if(report.notes, [&](const std::string& n) {
+      int mesh = -1, primitive = -1;
+      size_t rest = 0;
+      if (!note_names(n, mesh, primitive, rest) || mesh != cut->mesh) return false;
+      if (primitive == cut->primitive) return n.compare(rest, 9, " cut into") == 0;
+      return std::find(cut->appended.begin(), cut->appended.end(), primitive) != cut->appended.end();
+    });
+  }
+  for (auto& entry_of_mesh : erased) {
+    const int mesh = entry_of_mesh.first;  // a plain variable: lambdas below capture it
+    std::vector<int>& parts = entry_of_mesh.second;
+    std::sort(parts.rbegin(), parts.rend());
+    for (int p : parts) {
+      auto& prims = model.meshes[mesh].primitives;
+      prims.erase(prims.begin() + p);
+      std::erase_if(report.primitives,
+                    [&](const PrimitiveReport& pr) { return pr.mesh == mesh && pr.primitive == p; });
+      for (PrimitiveReport& pr : report.primitives)
+        if (pr.mesh == mesh && pr.primitive > p) --pr.primitive;
+      // Notes on later primitives of the mesh move down too.
+      for (std::string& note : report.notes) {
+        int note_mesh = -1, note_prim = -1;
+        size_t rest = 0;
+        if (note_names(note, note_mesh, note_prim, rest) && note_mesh == mesh && note_prim > p)
+          note = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(note_prim - 1) +
+                 note.substr(rest);
+      }
+    }
+  }
+  return {};
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,34 @@
+// The source's own UV charts on the embedding mesh: faces joined across every
+// edge whose two faces carry the same source UVs at both ends. A patch that
+// crosses a source UV seam puts texels of two unrelated source regions side
+// by side, and the viewer's bilinear filter blends them along the seam; the
+// partition keeps each patch inside one chart instead (EmbedOptions::face_chart).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "codec/core/mesh.h"
+
+namespace gltfwarp {
+
+using Uv = std::array<float, 2>;
+
+// Whether the texture agrees across a source seam edge: the edge runs from
+// a0 to a1 in one face's UVs and from b0 to b1 in the other's (a0 and b0 at
+// the same vertex). A seam where it does is invisible to the viewer's
+// filter, so a patch may cross it.
+using SeamTest = std::function<bool(Uv a0, Uv a1, Uv b0, Uv b1)>;
+
+// Chart id per face, numbered 0, 1, ... in order of each chart's lowest face.
+// source_uv holds 2 floats per corner (6 per face); UVs compare bit for bit,
+// as the source's shared vertices give equal floats and a seam does not.
+// With `seamless`, faces also join across the seam edges it accepts.
+// Requires valid indices (mesh_indices_valid).
+std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv,
+                                    const SeamTest& seamless = nullptr);
+
+}  // namespace gltfwarp

@@ -1,0 +1,108 @@
+// Pull-push fill of an atlas's empty texels (see atlas_fill.h).
+#include "codec/encode/texture/atlas_fill.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gltfwarp {
+namespace {
+
+// One pyramid level: channel values (averages of the kept texels below) and
+// whether any kept texel lies below each texel.
+struct Level {
+  int w = 0, h = 0;
+  std::vector<float> value;    // w * h * channels
+  std::vector<uint8_t> known;  // w * h
+};
+
+}  // namespace
+
+void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool deep,
+                    std::span<const uint8_t> empty) {
+  if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height)
+    return;
+  const int nch = channels;
+  auto texel = [&](int x, int y, int c) -> float {
+    const size_t i = (size_t(y) * width + x) * nch + c;
+    return deep ? float(reinterpret_cast<const uint16_t*>(pixels)[i]) : float(pixels[i]);
+  };
+  // Pull: level 1 from the pixels, each further level from the one below,
+  // down to a single texel. Each parent averages its kept children.
+  std::vector<Level> levels;
+  for (int w = width, h = height; w > 1 || h > 1;) {
+    Level next;
+    next.w = (w + 1) / 2;
+    next.h = (h + 1) / 2;
+    next.value.assign(size_t(next.w) * next.h * nch, 0.0f);
+    next.known.assign(size_t(next.w) * next.h, 0);
+    const Level* below = levels.empty() ? nullptr : &levels.back();
+    for (int y = 0; y < next.h; ++y)
+      for (int x = 0; x < next.w; ++x) {
+        float sum[8] = {};
+        int n = 0;
+        for (int dy = 0; dy < 2; ++dy)
+          for (int dx = 0; dx < 2; ++dx) {
+            const int cx = 2 * x + dx, cy = 2 * y + dy;
+            if (cx >= w || cy >= h) continue;
+            const size_t ci = size_t(cy) * w + cx;
+            if (below ? !below->known[ci] : empty[ci] != 0) continue;
+            for (int c = 0; c < nch; ++c) sum[c] += below ? below->value[ci * nch + c] : texel(cx, cy, c);
+            ++n;
+          }
+        if (n == 0) continue;
+        const size_t pi = size_t(y) * next.w + x;
+        next.known[pi] = 1;
+        for (int c = 0; c < nch; ++c) next.value[pi * nch + c] = sum[c] / float(n);
+      }
+    w = next.w;
+    h = next.h;
+    levels.push_back(std::move(next));
+  }
+  if (levels.empty()) return;  // a single texel: nothing to fill from
+  // Push: every unknown texel of a level takes the bilinear interpolation of
+  // the (by then complete) level above, from the top down to the pixels.
+  auto interpolate = [nch](const Level& up, double fx, double fy, float* out) {
+    const double sx = std::clamp(fx, 0.0, double(up.w - 1)), sy = std::clamp(fy, 0.0, double(up.h - 1));
+    const int x0 = int(sx), y0 = int(sy);
+    const int x1 = std::min(x0 + 1, up.w - 1), y1 = std::min(y0 + 1, up.h - 1);
+    const float ax = float(sx - x0), ay = float(sy - y0);
+    for (int c = 0; c < nch; ++c) {
+      auto at = [&](int x, int y) { return up.value[(size_t(y) * up.w + x) * nch + c]; };
+      out[c] = (at(x0, y0) * (1 - ax) + at(x1, y0) * ax) * (1 - ay) +
+               (at(x0, y1) * (1 - ax) + at(x1, y1) * ax) * ay;
+    }
+  };
+  if (!levels.back().known[0])  // nothing kept at all
+    std::fill(levels.back().value.begin(), levels.back().value.end(), 0.0f);
+  levels.back().known[0] = 1;
+  for (size_t k = levels.size() - 1; k-- > 0;) {
+    Level& lv = levels[k];
+    const Level& up = levels[k + 1];
+    for (int y = 0; y < lv.h; ++y)
+      for (int x = 0; x < lv.w; ++x) {
+        const size_t i = size_t(y) * lv.w + x;
+        if (lv.known[i]) continue;
+        interpolate(up, (x + 0.5) / 2.0 - 0.5, (y + 0.5) / 2.0 - 0.5, &lv.value[i * nch]);
+        lv.known[i] = 1;
+      }
+  }
+  const Level& up = levels.front();
+  const double top = deep ? 65535.0 : 255.0;
+  float v[8];
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const size_t i = size_t(y) * width + x;
+      if (!empty[i]) continue;
+      interpolate(up, (x + 0.5) / 2.0 - 0.5, (y + 0.5) / 2.0 - 0.5, v);
+      for (int c = 0; c < nch; ++c) {
+        const double q = std::round(std::clamp(double(v[c]), 0.0, top));
+        if (deep)
+          reinterpret_cast<uint16_t*>(pixels)[i * nch + c] = uint16_t(q);
+        else
+          pixels[i * nch + c] = uint8_t(q);
+      }
+    }
+}
+
+}  // namespace gltfwarp

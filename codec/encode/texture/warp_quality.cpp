@@ -1,0 +1,72 @@
+// Surface error of a warped atlas against its source (see warp_quality.h).
+#include "codec/encode/texture/warp_quality.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+namespace gltfwarp {
+
+double SurfaceError::psnr() const {
+  if (values == 0) return 0;
+  const double mse = squared / double(values);
+  return mse > 0 ? std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 99.0;
+}
+
+SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
+                           std::span<const SurfaceUvs> prims, uint64_t max_points,
+                           std::vector<SurfaceError>* per_group) {
+  SurfaceError e;
+  if (!source.ok || !atlas.ok) return e;
+  const auto& spec = source.pixels.spec();
+  const auto& t = source.transform;
+  const double texels = double(spec.width) * spec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
+  const int channels = std::min({3, source.channels(), atlas.channels()});
+  // Points per face first, to spread a capped budget evenly over the faces.
+  std::vector<std::vector<int>> side(prims.size());
+  uint64_t total = 0;
+  for (size_t p = 0; p < prims.size(); ++p) {
+    const auto& uv = prims[p].source_uv;
+    const size_t nf = std::min(uv.size(), prims[p].atlas_uv.size()) / 6;
+    side[p].resize(nf);
+    for (size_t f = 0; f < nf; ++f) {
+      const float* u = &uv[6 * f];
+      const double area = 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
+                                         (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
+      const int n = surface_points_per_side(area * texels);
+      side[p][f] = n;
+      total += uint64_t(n) * n;
+    }
+  }
+  const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
+  std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));
+  uint64_t face_index = 0;
+  for (size_t p = 0; p < prims.size(); ++p) {
+    const auto& su = prims[p].source_uv;
+    const auto& du = prims[p].atlas_uv;
+    for (size_t f = 0; f < side[p].size(); ++f, ++face_index) {
+      if (face_index % stride != 0) continue;
+      const float* s = &su[6 * f];
+      const float* d = &du[6 * f];
+      SurfaceError face;
+      for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
+        source.sample(w0 * s[0] + w1 * s[2] + w2 * s[4], w0 * s[1] + w1 * s[3] + w2 * s[5], a.data());
+        atlas.sample(w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5], b.data());
+        for (int c = 0; c < channels; ++c) {
+          const double diff = 255.0 * (double(a[c]) - b[c]);
+          face.squared += diff * diff;
+        }
+        face.values += uint64_t(channels);
+      });
+      e.add(face);
+      const auto& groups = prims[p].group_of_face;
+      if (per_group && f < groups.size()) {
+        if (groups[f] >= per_group->size()) per_group->resize(size_t(groups[f]) + 1);
+        (*per_group)[groups[f]].add(face);
+      }
+    }
+  }
+  return e;
+}
+
+}  // namespace gltfwarp

@@ -1,0 +1,41 @@
+// How faithfully an atlas reproduces its source on the surface: the encoder's
+// own check of a warp, before it commits to implicit UVs.
+//
+// The measure is the one `gltf-warp compare` and the benchmark report: at
+// about one point per source texel of every face, the source texture at the
+// source UV against the atlas at the new UV, both sampled as a viewer does
+// (texture_sampler.h), colour channels, 8-bit scale.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/encode/texture/texture_sampler.h"
+
+namespace gltfwarp {
+
+struct SurfaceError {
+  double squared = 0;   // sum of squared channel differences, 0..255 scale
+  uint64_t values = 0;  // channel values compared
+  double psnr() const;  // 10 log10(255^2 / MSE); 99 when identical, 0 when nothing was compared
+  void add(const SurfaceError& o) { squared += o.squared, values += o.values; }
+};
+
+// One primitive: per-corner UVs of the same faces (3 corners per face).
+struct SurfaceUvs {
+  std::span<const float> source_uv;  // as the source slot samples (its transform is the sampler's)
+  std::span<const float> atlas_uv;
+  // Optional, one per face: the error of each face also goes to
+  // per_group[group_of_face[f]] (e.g. per patch), when per_group is given.
+  std::span<const uint32_t> group_of_face;
+};
+
+// Compares `atlas` at atlas_uv with `source` at source_uv over every face of
+// every primitive. At most about max_points points: larger meshes are
+// measured on an evenly spread subset of faces.
+SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
+                           std::span<const SurfaceUvs> prims, uint64_t max_points = 4'000'000,
+                           std::vector<SurfaceError>* per_group = nullptr);
+
+}  // namespace gltfwarp

@@ -1,0 +1,35 @@
+// decode_uvs: the function every decoder runs, and that the encoder runs too
+// to get the UVs it warps its textures with (DESIGN.md, "The rule that makes
+// the format work"): bitstream + decoded mesh -> per-corner TEXCOORD_0.
+//   read_uvmap (uvmap_codec.h) -> layout_patches (codec/core/layout.h) -> apply_placements.
+// Pure functions over caller memory; nothing is allocated before the header
+// is validated; every failure is a UvStatus. spec/README.md, "Decoding process".
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "codec/core/layout.h"
+#include "codec/core/mesh.h"
+#include "format/bitstream/uvmap.h"
+
+namespace gltfwarp {
+
+// corner_uv receives 2 floats per corner (6 per face):
+//   t  = s * R(rotation) * p + (x, y)      (texels, double; s = texel_scale * patch_scale(step))
+//   uv = (float)(t.x / atlas_width), (float)(t.y / atlas_height)
+// with the exact operation order of spec/README.md. corner_xy holds 2 doubles
+// per corner (layout_patches' output); map must be valid for it
+// (bad_argument otherwise: sizes, patch ids, placements out of range).
+UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map, std::vector<float>& corner_uv);
+
+// read_uvmap + layout_patches + apply_placements. On success corner_uv has
+// 6 floats per face and, if map_out is given, *map_out the decoded map.
+UvStatus decode_uvs(const TriMesh& mesh, std::span<const uint8_t> bytes, std::vector<float>& corner_uv,
+                    UvMap* map_out = nullptr);
+
+// The UvStatus for a LayoutStatus (ok -> ok).
+UvStatus from_layout_status(LayoutStatus s);
+
+}  // namespace gltfwarp

@@ -1,0 +1,48 @@
+// Section 6.4 of spec/README.md: each patch's rotation, translation, page,
+// scale step and (1.1) seed face.
+import { GltfWarpError } from './errors.js';
+import { contexts, RangeDecoder } from './range_decoder.js';
+import { FLAG_ROTATIONS, FLAG_SCALES, FLAG_SEEDS } from './stream_header.js';
+
+const MAX_SCALE_MAGNITUDE = 31;
+
+// Faces of each patch, ascending (CSR by counting sort): faces[start[p] .. start[p + 1]).
+export function facesByPatch(patchOfFace, patchCount) {
+  const start = new Uint32Array(patchCount + 1);
+  for (let f = 0; f < patchOfFace.length; ++f) ++start[patchOfFace[f] + 1];
+  for (let p = 0; p < patchCount; ++p) start[p + 1] += start[p];
+  const faces = new Uint32Array(patchOfFace.length);
+  const fill = start.slice(0, patchCount);
+  for (let f = 0; f < patchOfFace.length; ++f) faces[fill[patchOfFace[f]]++] = f;
+  return { start, faces };
+}
+
+// Returns { rotation, x, y, page, scaleStep, seed } typed arrays, one entry per
+// patch. Without SEEDS the seed is the patch's lowest face.
+export function decodePlacements(header, byPatch) {
+  const P = header.patchCount;
+  const out = {
+    rotation: new Uint8Array(P), x: new Uint32Array(P), y: new Uint32Array(P),
+    page: new Uint32Array(P), scaleStep: new Int8Array(P), seed: new Uint32Array(P),
+  };
+  const d = new RangeDecoder(header.placements);
+  const nonzero = contexts(1), negative = contexts(1), magnitude = contexts(16);
+  const { flags } = header;
+  for (let p = 0; p < P; ++p) {
+    if (flags & FLAG_ROTATIONS) out.rotation[p] = d.uniform(256);
+    out.x[p] = d.uniform32(header.atlasWidth + 1);
+    out.y[p] = d.uniform32(header.atlasHeight + 1);
+    if (header.pageCount > 1) out.page[p] = d.uniform32(header.pageCount);
+    if (flags & FLAG_SCALES && d.bit(nonzero, 0)) {
+      const neg = d.bit(negative, 0);
+      const mag = d.expGolomb(magnitude);
+      if (mag > MAX_SCALE_MAGNITUDE) throw new GltfWarpError('bad_value', `scale magnitude ${mag}`);
+      out.scaleStep[p] = neg ? -(mag + 1) : mag + 1;
+    }
+    const first = byPatch.start[p];
+    const rank = flags & FLAG_SEEDS ? d.uniform32(byPatch.start[p + 1] - first) : 0;
+    out.seed[p] = byPatch.faces[first + rank];
+  }
+  d.finish('placement');
+  return out;
+}

@@ -1,0 +1,77 @@
+// Pure decoder against the golden vectors of spec section 9: the UV hash, the
+// seeds, every proper prefix -> truncated, one appended byte ->
+// trailing_bytes, and the header rules of 4.1 on edited copies (the same
+// checks as spec/reference_decoder.py).
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { decodeUvs } from '../src/decode_uvs.js';
+import { facesByPatch } from '../src/placements.js';
+import { fnv1a64 } from './support/fnv1a.js';
+import { goldenMesh, goldenVector } from './support/golden_vectors.js';
+
+const mesh = goldenMesh();
+
+function errorCode(bytes) {
+  try {
+    decodeUvs(mesh, bytes);
+    return 'ok';
+  } catch (e) {
+    if (!e.code) throw e;
+    return e.code;
+  }
+}
+
+function edited(bytes, i, v) {
+  const b = bytes.slice();
+  b[i] = v;
+  return b;
+}
+
+for (const [name, medianSeeds] of [['1_0', false], ['1_1', true]]) {
+  const { bytes, hash } = goldenVector(name);
+
+  test(`golden ${name}: UV hash`, () => {
+    const { uv } = decodeUvs(mesh, bytes);
+    assert.equal(uv.length, 1152);
+    assert.equal(fnv1a64(uv), hash);
+  });
+
+  test(`golden ${name}: seeds are the ${medianSeeds ? 'median' : 'lowest'} face of each patch`, () => {
+    const { header, patchOfFace, placements } = decodeUvs(mesh, bytes);
+    const by = facesByPatch(patchOfFace, header.patchCount);
+    for (let p = 0; p < header.patchCount; ++p) {
+      const n = by.start[p + 1] - by.start[p];
+      assert.equal(placements.seed[p], by.faces[by.start[p] + (medianSeeds ? n >> 1 : 0)]);
+    }
+  });
+
+  test(`golden ${name}: every proper prefix is truncated`, () => {
+    for (let n = 0; n < bytes.length; ++n) assert.equal(errorCode(bytes.subarray(0, n)), 'truncated', `prefix ${n}`);
+  });
+
+  test(`golden ${name}: header rules`, () => {
+    const longer = new Uint8Array(bytes.length + 1);
+    longer.set(bytes);
+    assert.equal(errorCode(longer), 'trailing_bytes');
+    assert.equal(errorCode(edited(bytes, 5, 2)), 'unsupported_version');
+    assert.equal(errorCode(edited(bytes, 0, 0x48)), 'bad_magic');
+    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x08)), 'reserved_bits');
+    if (bytes[6] & 0x04) {
+      assert.equal(errorCode(edited(bytes, 5, 0)), 'reserved_bits');
+    } else {
+      assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x04)), 'reserved_bits');
+      assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 1)).uv), hash, 'minor 1 without SEEDS');
+    }
+  });
+
+  test(`golden ${name}: a mesh with another face count is face_count_mismatch`, () => {
+    const fewer = { positions: mesh.positions, indices: mesh.indices.subarray(0, mesh.indices.length - 3) };
+    assert.throws(() => decodeUvs(fewer, bytes), { code: 'face_count_mismatch' });
+  });
+
+  test(`golden ${name}: an index past the vertices is bad_mesh`, () => {
+    const bad = { positions: mesh.positions, indices: mesh.indices.slice() };
+    bad.indices[7] = 1000;
+    assert.throws(() => decodeUvs(bad, bytes), { code: 'bad_mesh' });
+  });
+}
