@@ -9,12 +9,14 @@
 #include <set>
 #include <tuple>
 
+#include "codec/core/layout_report.h"
 #include "codec/decode/tangents.h"
 #include "codec/encode/atlas/pack.h"
 #include "codec/encode/atlas/pages.h"
 #include "codec/encode/atlas/texel_density.h"
 #include "codec/encode/implicit_uv_encoder.h"
 #include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/mip_quality.h"
 #include "codec/encode/texture/png_palette.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "codec/encode/texture/warp.h"
@@ -92,14 +94,26 @@ TangentFrames corner_frames(const ImplicitPrimitive& ip) {
   return f;
 }
 
-int add_clamp_sampler(tinygltf::Model& model) {
+// The sampler of an atlas made from a texture with sampler `source` (-1:
+// none): the source's own, with CLAMP_TO_EDGE on both axes, as the atlas must
+// not wrap. The filters stay the author's (a NEAREST_MIPMAP_LINEAR source
+// stays so; none stays none, left to the viewer as in the source), so a
+// viewer filters both files alike. One per source sampler.
+int atlas_sampler(tinygltf::Model& model, int source, std::map<int, int>& made) {
+  if (const auto it = made.find(source); it != made.end()) return it->second;
   tinygltf::Sampler s;
-  s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-  s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  if (source >= 0 && source < static_cast<int>(model.samplers.size())) s = model.samplers[source];
   s.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
   s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
   model.samplers.push_back(s);
-  return static_cast<int>(model.samplers.size() - 1);
+  return made[source] = static_cast<int>(model.samplers.size() - 1);
+}
+
+// 3D area of each face: the weight of its samples in the least-squares texel fit.
+std::vector<float> face_areas(const TriMesh& mesh) {
+  std::vector<float> area(mesh.face_count());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) area[f] = static_cast<float>(face_area3(mesh, f));
+  return area;
 }
 
 }  // namespace
@@ -157,7 +171,9 @@ struct GroupAtlas {
   std::vector<UvMap> maps;                       // per member
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
-  SurfaceError error;  // colour slots: warped atlas against the source
+  SurfaceError error;                    // colour slots: warped atlas against the source
+  MipQuality mip;                        // the same at MIP levels 0..3 with worst regions (full builds only)
+  double fit_before = 0, fit_after = 0;  // least-squares fit errors, colour slots
   // The same per source image (pages pooled). The quality floor holds for
   // each image, so each material variant (usually its own images) keeps it,
   // not only the group's images on average.
@@ -406,6 +422,7 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
       wo.wrap_t = wrap_from_gltf(gl_wrap_t);
       for (int i = 0; i < 6; ++i) wo.uv_transform[i] = static_cast<float>(slot.transform[i]);
       wo.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+      wo.least_squares = options.least_squares_texels;
       const std::string mime = output_mime(model.images[image].image, options.image_format);
       wo.empty_fill = mime == "image/jpeg" ? EmptyFill::pull_push : EmptyFill::mean;
       ar.source_image_bytes += model.images[image].image.size();
@@ -414,12 +431,16 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
         std::vector<SurfaceUvs> uvs;
         std::vector<TangentFrames> frames;
         frames.reserve(group.members.size());
+        std::vector<std::vector<float>> areas;
+        areas.reserve(group.members.size());
         for (size_t k : out.pages[page]) {
           if (!member_images[k].count(image)) continue;
           const auto& ip = plan.prims[group.members[k]];
           WarpPrimitive w;
           w.source_uv = ip.source_uv;
           w.atlas_uv = ip.corner_uv;
+          areas.push_back(face_areas(ip.tri));
+          w.face_area = areas.back();
           if (slot.normal_map) {
             frames.push_back(corner_frames(ip));
             w.normals = frames.back().normals;
@@ -474,6 +495,15 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
                                TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
           const SurfaceError e = surface_error(before, after, uvs, 4'000'000, &out.patch_error);
           out.error.add(e);
+          if (!measure_only) {
+            const MipQuality mq = mip_surface_error(before, after, uvs);
+            if (out.mip.level[0].values == 0)
+              out.mip = mq;
+            else
+              out.mip.add(mq);
+          }
+          out.fit_before += wr.fit.error_before, out.fit_after += wr.fit.error_after;
+          ar.fit_seconds += wr.fit_seconds;
           out.image_error[image].add(e);
         }
         if (!measure_only && !lossy) err = encode_atlas(atlas, palette, job.mime, quality, job.bytes);
@@ -484,12 +514,18 @@ std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, 
     }
   }
   ar.psnr = out.floor_psnr();
+  for (int l = 0; l < kMipLevels; ++l) {
+    ar.mip_psnr[size_t(l)] = out.mip.level[size_t(l)].values ? out.mip.level[size_t(l)].psnr() : 0;
+    ar.worst_psnr[size_t(l)] = out.mip.worst_psnr[size_t(l)];
+  }
+  if (out.fit_before > 0 && out.fit_after > 0)
+    ar.fit_gain_db = 10 * std::log10(out.fit_before / out.fit_after);
   return {};
 }
 
 // The group's primitives get their bitstreams, its materials the atlases.
 void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                        GroupAtlas& built, EncodeReport& report, int& clamp_sampler,
+                        GroupAtlas& built, EncodeReport& report, std::map<int, int>& clamp_samplers,
                         std::vector<int>& retired_textures) {
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
@@ -542,10 +578,9 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     img.image = std::move(job.bytes);
     img.as_is = true;
     model.images.push_back(std::move(img));
-    if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
     tinygltf::Texture tex;
     tex.source = static_cast<int>(model.images.size() - 1);
-    tex.sampler = clamp_sampler;
+    tex.sampler = atlas_sampler(model, std::get<1>(job.key), clamp_samplers);
     model.textures.push_back(tex);
     made[{job.key, job.page}] = static_cast<int>(model.textures.size() - 1);
   }
@@ -706,7 +741,7 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
                                 std::vector<int>& replaced, EncodeReport& report) {
   plan.seam_textures.clear();  // the partitions are made
   plan.seam_materials.clear();
-  int clamp_sampler = -1;
+  std::map<int, int> clamp_samplers;  // source sampler -> its atlas copy
   std::vector<int> retired_textures;  // source textures the atlases replaced
   const bool auto_density = !(options.texel_density > 0);
   // The quality floor holds by default for the default density only: a
@@ -782,7 +817,7 @@ std::string finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, cons
         continue;
       }
     }
-    commit_group_atlas(model, plan, group, built, report, clamp_sampler, retired_textures);
+    commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }
   drop_unused_textures(model, retired_textures);
   if (options.progress) options.progress("atlas", 1.0);

@@ -31,6 +31,10 @@ struct EncodeOptions {
   uint32_t max_pages =
       16;          // pages per atlas group before the density shrinks to fit (codec/encode/atlas/pages.h)
   int gutter = 4;  // texels of padding around every patch
+  // Least-squares texels (codec/encode/texture/texel_fit.h): the atlas
+  // texels whose bilinear reconstruction best matches the source over the
+  // surface, instead of one point sample each.
+  bool least_squares_texels = true;
   bool power_of_two = false;          // atlas sides as powers of two (else multiples of 4)
   std::string image_format = "keep";  // keep | png | jpeg
   int jpeg_quality = 0;               // JPEG output quality; 0 = match the source JPEG (90 for others)
@@ -91,6 +95,12 @@ struct AtlasReport {
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;  // times the measured texel density
   double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
+  // What a minifying viewer shows (mip_quality.h), colour slots pooled:
+  // the mean surface PSNR at MIP levels 0..3, and the worst region's (the
+  // worst patches holding 1% of the surface) at each level.
+  std::array<double, 4> mip_psnr{}, worst_psnr{};
+  double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
+  double fit_seconds = 0;  // time the fit took, over the images and pages
 };
 
 struct EncodeReport {
