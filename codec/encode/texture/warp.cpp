@@ -367,7 +367,20 @@ void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& 
           bilinear(in.linear, in.sw, in.sh, nch, ws, wt, b0 * tr.s[0] + b1 * tr.s[1] + b2 * tr.s[2],
                    b0 * tr.t[0] + b1 * tr.t[1] + b2 * tr.t[2], value);
           xy.push_back(float(x)), xy.push_back(float(y - r0));
-          weight.push_back(w);
+          // sRGB slots: the error that shows is in encoded values, so each
+          // sample weighs the squared slope of the sRGB curve at its colour
+          // (the fit is linear in linear light, the viewer's filter space).
+          float slope = 1;
+          if (in.srgb) {
+            slope = 0;
+            const int colours = std::min(nch, 3);
+            for (int c = 0; c < colours; ++c) {
+              const float v = std::max(value[c], 0.0031308f);
+              const float d = 1.055f / 2.4f * std::pow(v, 1.0f / 2.4f - 1.0f);
+              slope += d * d / float(colours);
+            }
+          }
+          weight.push_back(w * slope);
           for (int c = 0; c < nch; ++c) target.push_back(value[c]);
         });
       }
