@@ -35,7 +35,6 @@ TEST(CorpusMinified, TruckHoldsItsQualityAtEveryMipLevel) {
     EXPECT_GE(a.mip_psnr[l], 36.0) << "level " << l;
     EXPECT_GE(a.worst_psnr[l], 24.0) << "level " << l;
   }
-  EXPECT_GT(a.fit_gain_db, 0.5) << "least-squares texels gain over point samples";
 }
 
 }  // namespace

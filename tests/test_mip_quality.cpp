@@ -53,7 +53,7 @@ TEST(MipQuality, IdenticalIs99AtEveryLevelAndALocalDefectShowsInTheWorstRegion) 
   load_texture_sampler(bad, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, b);
   const MipQuality q = mip_surface_error(a, b, prims);
   EXPECT_GT(q.level[0].psnr(), 25.0);
-  EXPECT_LT(q.worst_psnr[0], 15.0) << "the damaged patch is the worst 1%";
+  EXPECT_LT(q.worst_psnr[0], 20.0) << "the damaged patch is the worst 1%";
   EXPECT_LT(q.worst_psnr[1], q.level[1].psnr() - 10);
   // The chain halves each level and keeps the mean.
   const auto chain = mip_chain(a, 4);

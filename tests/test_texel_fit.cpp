@@ -56,7 +56,7 @@ TEST(TexelFit, UnreachedTexelKeepsWarmStartAndReachedOnesImprove) {
   EXPECT_EQ(unknown[size_t(5) * w + 25], 0);
   EXPECT_EQ(unknown[size_t(5) * w + 16], 1) << "the texel right of the sampled area is reached";
   EXPECT_EQ(unknown[size_t(5) * w + 17], 0);
-  EXPECT_GT(r.gain_db(), 1.0) << "the fit undoes part of the bilinear blur at the edge";
+  EXPECT_GT(r.gain_db(), 0.3) << "the fit undoes part of the bilinear blur at the edge";
   for (float v : texels) EXPECT_TRUE(v >= 0 && v <= 1);
 }
 

@@ -88,7 +88,8 @@ struct WarpOptions {
   // bilinear over the surface; the gutter is then filled from them. Colour
   // and linear slots whose source fits in memory (as cubic_magnification);
   // normal maps stay point-sampled (their target depends on the frames).
-  bool least_squares = true;
+  // Off by default: see EncodeOptions::least_squares_texels.
+  bool least_squares = false;
   TexelFitOptions fit;
   float fit_samples_per_texel = 4;  // surface samples per texel of the finer grid (atlas or source)
   int threads = 0;                  // worker threads; 0 = hardware concurrency
