@@ -146,7 +146,9 @@ TEST(TexelFit, ConstantSourceWarpsToExactlyConstantAtlas) {
   const WarpPrimitive prims[1] = {wp};
   OIIO::ImageBuf out;
   WarpReport r;
-  ASSERT_EQ(warp_texture(flat, prims, 64, 64, {}, out, &r), WarpStatus::ok);
+  WarpOptions opt;
+  opt.least_squares = true;  // opt-in (EncodeOptions::least_squares_texels)
+  ASSERT_EQ(warp_texture(flat, prims, 64, 64, opt, out, &r), WarpStatus::ok);
   EXPECT_GT(r.fit.fitted_texels, 0u);
   const auto* q = static_cast<const uint8_t*>(out.localpixels());
   for (int i = 0; i < 64 * 64; ++i) {
