@@ -75,6 +75,11 @@ Runner add_encode(CLI::App& app) {
       "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
       "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
       "textures hide (the same colours on both sides)");
+  app.add_flag(
+      "--least-squares-texels", a->opt.least_squares_texels,
+      "Fit the atlas texels so that their bilinear reconstruction best matches the source over the "
+      "surface (by default each texel samples the source at its centre; the fit costs bytes at equal "
+      "quality on the corpus)");
   app.add_flag("--keep-hidden-seams", a->keep_hidden_seams,
                "Keep patches inside the source's UV charts even across seams the textures hide");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")

@@ -124,6 +124,13 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
         "images %zu -> %zu bytes\n",
         i, a.width, a.height, pages.c_str(), 100.0 * a.fill, a.overlapping_texels, a.density_factor, a.psnr,
         a.source_image_bytes, a.atlas_image_bytes);
+    if (a.mip_psnr[0] > 0)
+      std::printf(
+          "  by MIP level 0/1/2/3: mean %.1f/%.1f/%.1f/%.1f dB, worst 1%% of the surface %.1f/%.1f/%.1f/%.1f "
+          "dB; "
+          "least-squares texels +%.2f dB (%.2f s)\n",
+          a.mip_psnr[0], a.mip_psnr[1], a.mip_psnr[2], a.mip_psnr[3], a.worst_psnr[0], a.worst_psnr[1],
+          a.worst_psnr[2], a.worst_psnr[3], a.fit_gain_db, a.fit_seconds);
     if (a.atlas_image_bytes > a.source_image_bytes)
       larger += (larger.empty() ? "" : ", ") + std::to_string(i);
   }

@@ -19,14 +19,19 @@
 namespace gltfwarp {
 namespace {
 
-int add_clamp_sampler(tinygltf::Model& model) {
+// The sampler of an atlas made from a texture with sampler `source` (-1:
+// none): the source's own, with CLAMP_TO_EDGE on both axes, as the atlas must
+// not wrap. The filters stay the author's (a NEAREST_MIPMAP_LINEAR source
+// stays so; none stays none, left to the viewer as in the source), so a
+// viewer filters both files alike. One per source sampler.
+int atlas_sampler(tinygltf::Model& model, int source, std::map<int, int>& made) {
+  if (const auto it = made.find(source); it != made.end()) return it->second;
   tinygltf::Sampler s;
-  s.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
-  s.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  if (source >= 0 && source < static_cast<int>(model.samplers.size())) s = model.samplers[source];
   s.wrapS = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
   s.wrapT = TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE;
   model.samplers.push_back(s);
-  return static_cast<int>(model.samplers.size() - 1);
+  return made[source] = static_cast<int>(model.samplers.size() - 1);
 }
 
 }  // namespace
@@ -67,7 +72,7 @@ namespace {
 
 // The group's primitives get their bitstreams, its materials the atlases.
 void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
-                        GroupAtlas& built, EncodeReport& report, int& clamp_sampler,
+                        GroupAtlas& built, EncodeReport& report, std::map<int, int>& clamp_samplers,
                         std::vector<int>& retired_textures) {
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
@@ -120,10 +125,9 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     img.image = std::move(job.bytes);
     img.as_is = true;
     model.images.push_back(std::move(img));
-    if (clamp_sampler < 0) clamp_sampler = add_clamp_sampler(model);
     tinygltf::Texture tex;
     tex.source = static_cast<int>(model.images.size() - 1);
-    tex.sampler = clamp_sampler;
+    tex.sampler = atlas_sampler(model, std::get<1>(job.key), clamp_samplers);
     model.textures.push_back(tex);
     made[{job.key, job.page}] = static_cast<int>(model.textures.size() - 1);
   }
@@ -299,7 +303,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
                           std::vector<int>& replaced, EncodeReport& report) {
   plan.seam_textures.clear();  // the partitions are made
   plan.seam_materials.clear();
-  int clamp_sampler = -1;
+  std::map<int, int> clamp_samplers;  // source sampler -> its atlas copy
   std::vector<int> retired_textures;  // source textures the atlases replaced
   const bool auto_density = !(options.texel_density > 0);
   // The quality floor holds by default for the default density only: a
@@ -379,7 +383,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
         continue;
       }
     }
-    commit_group_atlas(model, plan, group, built, report, clamp_sampler, retired_textures);
+    commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }
   drop_unused_textures(model, retired_textures);
   if (options.progress) options.progress("atlas", 1.0);

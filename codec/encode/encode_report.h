@@ -82,6 +82,12 @@ struct AtlasReport {
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;  // times the measured texel density
   double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)
+  // What a minifying viewer shows (mip_quality.h), colour slots pooled:
+  // the mean surface PSNR at MIP levels 0..3, and the worst region's (the
+  // worst patches holding 1% of the surface) at each level.
+  std::array<double, 4> mip_psnr{}, worst_psnr{};
+  double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
+  double fit_seconds = 0;  // time the fit took, over the images and pages
 };
 
 // What a note is about.

@@ -32,6 +32,14 @@ struct EncodeOptions {
   uint32_t max_pages =
       16;          // pages per atlas group before the density shrinks to fit (codec/encode/atlas/pages.h)
   int gutter = 4;  // texels of padding around every patch
+  // Least-squares texels (codec/encode/texture/texel_fit.h): the atlas
+  // texels whose bilinear reconstruction best matches the source over the
+  // surface, instead of one point sample each. Opt-in: at equal surface
+  // PSNR it costs bytes (Duck and CesiumMilkTruck, PNG and JPEG 50/75/90,
+  // benchmarks/README.md): its sharper texels compress worse, an indexed PNG
+  // snaps them back to the palette, and the adaptive density spends its
+  // gain in fewer texels.
+  bool least_squares_texels = false;
   bool power_of_two = false;          // atlas sides as powers of two (else multiples of 4)
   std::string image_format = "keep";  // keep | png | jpeg
   int jpeg_quality = 0;               // JPEG output quality; 0 = match the source JPEG (90 for others)

@@ -1,6 +1,8 @@
 // A group's atlas: the stages of group_atlas.h, in order.
 #include "codec/encode/group_atlas.h"
 
+#include <cmath>
+
 #include "codec/encode/texture/image_io.h"
 
 namespace gltfwarp {
@@ -23,9 +25,13 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
       Error err;
-      if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err))
+      WarpReport wr;
+      if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err,
+                           &wr))
         continue;  // no member on this page samples the image
       if (err.failed()) return err;
+      if (!source.slot.normal_map) out.fit_before += wr.fit.error_before, out.fit_after += wr.fit.error_after;
+      out.report.fit_seconds += wr.fit_seconds;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       WarpJob job{source.key, source.image, page, {}, coding.mime};
       const std::string image = "image " + std::to_string(source.image) + ": ";
@@ -34,13 +40,19 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
         OIIO::ImageBuf shown;
         if (std::string why; coding.lossy && !decode_image(job.bytes, shown, why))
           return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, out);
+        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, true, out);
       }
       out.report.atlas_image_bytes += job.bytes.size();
       out.jobs.push_back(std::move(job));
     }
   }
   out.report.psnr = out.floor_psnr();
+  for (size_t l = 0; l < kMipLevels; ++l) {
+    out.report.mip_psnr[l] = out.mip.level[l].values ? out.mip.level[l].psnr() : 0;
+    out.report.worst_psnr[l] = out.mip.worst_psnr[l];
+  }
+  if (out.fit_before > 0 && out.fit_after > 0)
+    out.report.fit_gain_db = 10 * std::log10(out.fit_before / out.fit_after);
   return {};
 }
 
@@ -67,7 +79,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       if (!coding.lossy) {
-        measure_page_image(source, coding, *decoded, atlas, uvs, out);
+        measure_page_image(source, coding, *decoded, atlas, uvs, false, out);
         continue;
       }
       const std::string image = "image " + std::to_string(source.image) + ": ";
@@ -76,7 +88,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (Error e = code_page_image(atlas, palette, coding, bytes); e.failed()) return e.at(image);
       if (std::string why; !decode_image(bytes, shown, why))
         return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-      measure_page_image(source, coding, *decoded, shown, uvs, out);
+      measure_page_image(source, coding, *decoded, shown, uvs, false, out);
     }
   }
   return {};

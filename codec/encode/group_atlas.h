@@ -27,6 +27,7 @@
 #include "codec/core/error.h"
 #include "codec/encode/encoder.h"
 #include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/texture/mip_quality.h"
 #include "codec/encode/texture/png_palette.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "codec/encode/texture/warp.h"
@@ -52,7 +53,9 @@ struct GroupAtlas {
   std::vector<UvMap> maps;                       // per member
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
-  SurfaceError error;  // colour slots: warped atlas against the source
+  SurfaceError error;                    // colour slots: warped atlas against the source
+  MipQuality mip;                        // the same at MIP levels 0..3 with worst regions (full builds only)
+  double fit_before = 0, fit_after = 0;  // least-squares fit errors, colour slots
   // The same per source image (pages pooled). The quality floor holds for
   // each image, so each material variant (usually its own images) keeps it,
   // not only the group's images on average.
@@ -162,12 +165,13 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 
 // Warps the slot source into page `page` of the built atlas (the members on
 // that page that sample its image). `uvs`: those members' source and atlas
-// UVs with their patches, for the measurement. False: no member on the page
-// samples the image (nothing warped).
+// UVs with their patches, for the measurement; `report`, if given, the
+// warp's (its least-squares fit). False: no member on the page samples the
+// image (nothing warped).
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, Error& error);
+                     std::vector<SurfaceUvs>& uvs, Error& error, WarpReport* report = nullptr);
 
 // Snaps the warped page to the palette it will be written with (PNG kept
 // as PNG keeps its source's palette), so the quality check measures the
@@ -182,9 +186,11 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
 
 // Surface error of `shown` (what a viewer samples: the page image, or its
 // coded bytes decoded back) against the source: into the atlas's error, the
-// image's and each patch's. Colour slots only: normal maps change
-// legitimately (new tangent frames).
+// image's and each patch's; with `mip_levels` (full builds only: it costs
+// four more passes) also into out.mip, MIP levels 0..3 and worst regions.
+// Colour slots only: normal maps change legitimately (new tangent frames).
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out);
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, bool mip_levels,
+                        GroupAtlas& out);
 
 }  // namespace gltfwarp

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <set>
 
+#include "codec/core/layout_report.h"
 #include "codec/decode/tangents.h"
 #include "codec/encode/group_atlas.h"
 #include "codec/encode/texture/image_io.h"
@@ -67,6 +68,13 @@ TangentFrames corner_frames(const ImplicitPrimitive& ip) {
   return f;
 }
 
+// 3D area of each face: the weight of its samples in the least-squares texel fit.
+std::vector<float> face_areas(const TriMesh& mesh) {
+  std::vector<float> area(mesh.face_count());
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) area[f] = static_cast<float>(face_area3(mesh, f));
+  return area;
+}
+
 }  // namespace
 
 std::vector<SlotSource> slot_sources(const tinygltf::Model& model, const AtlasGroup& group) {
@@ -106,6 +114,7 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
   c.warp.wrap_t = wrap_from_gltf(c.gl_wrap_t);
   for (int i = 0; i < 6; ++i) c.warp.uv_transform[i] = static_cast<float>(slot.transform[i]);
   c.warp.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
+  c.warp.least_squares = options.least_squares_texels;
   c.mime = output_mime(bytes, options.image_format);
   c.warp.empty_fill = c.mime == "image/jpeg" ? EmptyFill::pull_push : EmptyFill::mean;
   c.jpeg_quality = options.jpeg_quality;
@@ -120,13 +129,15 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, Error& error) {
+                     std::vector<SurfaceUvs>& uvs, Error& error, WarpReport* report) {
   error = {};
   uvs.clear();
   const bool normal_map = source.slot.normal_map;
   std::vector<WarpPrimitive> wp;
   std::vector<TangentFrames> frames;
   frames.reserve(group.members.size());
+  std::vector<std::vector<float>> areas;
+  areas.reserve(group.members.size());
   for (size_t k : built.pages[page]) {
     const auto& ip = plan.prims[group.members[k]];
     // Only the members that sample the image (through any material they can show) paint it.
@@ -137,6 +148,8 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
     WarpPrimitive w;
     w.source_uv = ip.source_uv;
     w.atlas_uv = ip.corner_uv;
+    areas.push_back(face_areas(ip.tri));
+    w.face_area = areas.back();
     if (normal_map) {
       frames.push_back(corner_frames(ip));
       w.normals = frames.back().normals;
@@ -153,6 +166,7 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   if (ws != WarpStatus::ok)
     error = {ErrorCode::internal, "warping image " + std::to_string(source.image) + ": " + to_string(ws) +
                                       (wr.error.empty() ? "" : " " + wr.error)};
+  if (report) *report = std::move(wr);
   return true;
 }
 
@@ -179,7 +193,8 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
 }
 
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out) {
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, bool mip_levels,
+                        GroupAtlas& out) {
   const TextureSlot& slot = source.slot;
   const bool srgb = slot.color_space == ColorSpace::srgb;
   auto [it, fresh] = decoded.samplers.try_emplace(source.key);
@@ -193,6 +208,13 @@ void measure_page_image(const SlotSource& source, const SlotCoding& coding, Sour
   const SurfaceError e = surface_error(before, after, uvs, 4'000'000, &out.patch_error);
   out.error.add(e);
   out.image_error[source.image].add(e);
+  if (mip_levels) {
+    const MipQuality mq = mip_surface_error(before, after, uvs);
+    if (out.mip.level[0].values == 0)
+      out.mip = mq;
+    else
+      out.mip.add(mq);
+  }
 }
 
 }  // namespace gltfwarp

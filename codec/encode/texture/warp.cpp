@@ -255,6 +255,196 @@ struct TempFile {
 // Which channels carry sRGB colour: all but alpha (channel 3 of 4, 1 of 2).
 bool is_color_channel(int c, int nch) { return nch >= 3 ? c < 3 : c < 1; }
 
+// The source as a viewer samples it when magnifying: bilinear on the linear
+// texels, texel indices wrapped per axis (texture_sampler.h).
+void bilinear(const std::vector<float>& px, int w, int h, int nch, OIIO::ImageBuf::WrapMode ws,
+              OIIO::ImageBuf::WrapMode wt, double s, double t, float* out) {
+  const double x = s * w - 0.5, y = t * h - 0.5;
+  if (!std::isfinite(x) || !std::isfinite(y) || std::abs(x) > 1e9 || std::abs(y) > 1e9) {
+    for (int c = 0; c < nch; ++c) out[c] = 0;
+    return;
+  }
+  const double fx = std::floor(x), fy = std::floor(y), ax = x - fx, ay = y - fy;
+  const int x0 = wrap_texel_index(long(fx), w, ws), x1 = wrap_texel_index(long(fx) + 1, w, ws);
+  const int y0 = wrap_texel_index(long(fy), h, wt), y1 = wrap_texel_index(long(fy) + 1, h, wt);
+  const float* a = &px[(size_t(y0) * w + x0) * nch];
+  const float* b = &px[(size_t(y0) * w + x1) * nch];
+  const float* d = &px[(size_t(y1) * w + x0) * nch];
+  const float* e = &px[(size_t(y1) * w + x1) * nch];
+  for (int c = 0; c < nch; ++c)
+    out[c] = float((1 - ay) * ((1 - ax) * a[c] + ax * b[c]) + ay * ((1 - ax) * d[c] + ax * e[c]));
+}
+
+struct FitInput {
+  const std::vector<Tri>& tris;
+  std::span<const WarpPrimitive> prims;
+  const std::vector<float>& linear;  // the source, linear values
+  int sw, sh, nch, W, H;
+  bool srgb, deep;
+  const WarpOptions& options;
+};
+
+// Least-squares texels over the page (texel_fit.h), strip by strip: each
+// strip of rows is solved with a few rows of halo on either side (the
+// normal equations couple texels one row apart, so the halo's influence on
+// the kept rows is small) and only its own rows are kept. The warm start
+// is read from a copy of the point-sampled page, so strips run in any order
+// and the result does not depend on the thread count. Then every gutter
+// texel that no sample reached copies its nearest fitted or covered texel,
+// as the warp's own dilation did.
+void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& kind, int nthreads,
+               TexelFitReport& total) {
+  const int W = in.W, H = in.H, nch = in.nch;
+  const WarpOptions& o = in.options;
+  constexpr int kStrip = 64, kHalo = 4;
+  const int strips = (H + kStrip - 1) / kStrip;
+  const double qmax = in.deep ? 65535.0 : 255.0;
+  const size_t texel_bytes = size_t(nch) * (in.deep ? 2 : 1);
+  const std::vector<uint8_t> warm(pixels, pixels + size_t(W) * H * texel_bytes);
+  std::vector<uint8_t> unknown(size_t(W) * H, 0);
+  float lut[256];
+  for (int i = 0; i < 256; ++i) lut[i] = in.srgb ? srgb_to_linear(float(i) / 255.0f) : float(i) / 255.0f;
+  auto load = [&](size_t texel, int c) -> float {
+    const uint8_t* p = &warm[texel * texel_bytes];
+    if (!in.deep) return is_color_channel(c, nch) ? lut[p[c]] : float(p[c]) / 255.0f;
+    const float v = float(reinterpret_cast<const uint16_t*>(p)[c] / 65535.0);
+    return in.srgb && is_color_channel(c, nch) ? srgb_to_linear(v) : v;
+  };
+  // Sample weights: per face its area (3D when given, else source texels),
+  // scaled so that a fully covered texel's samples weigh about 1 overall.
+  std::vector<double> face_weight(in.tris.size());
+  double weight_sum = 0, atlas_area = 0;
+  std::vector<std::vector<uint32_t>> strip_tris(strips);
+  for (size_t i = 0; i < in.tris.size(); ++i) {
+    const Tri& tr = in.tris[i];
+    const WarpPrimitive& p = in.prims[tr.prim];
+    const double area_atlas =
+        0.5 * std::abs((tr.x[1] - tr.x[0]) * (tr.y[2] - tr.y[0]) - (tr.x[2] - tr.x[0]) * (tr.y[1] - tr.y[0]));
+    const double area_source =
+        0.5 *
+        std::abs((tr.s[1] - tr.s[0]) * (tr.t[2] - tr.t[0]) - (tr.s[2] - tr.s[0]) * (tr.t[1] - tr.t[0])) *
+        in.sw * in.sh;
+    face_weight[i] = p.face_area.size() > tr.face ? double(p.face_area[tr.face]) : area_source;
+    if (!std::isfinite(face_weight[i]) || face_weight[i] < 0) face_weight[i] = 0;
+    weight_sum += face_weight[i];
+    atlas_area += area_atlas;
+    const double y0 = std::min({tr.y[0], tr.y[1], tr.y[2]}), y1 = std::max({tr.y[0], tr.y[1], tr.y[2]});
+    const int r0 = std::max(0, int(std::floor(y0)) - kHalo - 1),
+              r1 = std::min(H - 1, int(std::ceil(y1)) + kHalo);
+    for (int b = r0 / kStrip; b <= r1 / kStrip; ++b) strip_tris[b].push_back(uint32_t(i));
+  }
+  const double weight_scale = weight_sum > 0 ? atlas_area / weight_sum : 0;
+  const auto ws = to_imagebuf_wrap(o.wrap_s), wt = to_imagebuf_wrap(o.wrap_t);
+  std::atomic<int> next{0};
+  std::mutex merge;
+  auto worker = [&]() {
+    std::vector<float> xy, weight, target, texels;
+    std::vector<uint8_t> mask;
+    TexelFitReport mine;
+    for (;;) {
+      const int b = next++;
+      if (b >= strips) break;
+      const int y0 = b * kStrip, y1 = std::min(H, y0 + kStrip);
+      const int r0 = std::max(0, y0 - kHalo), r1 = std::min(H, y1 + kHalo), rows = r1 - r0;
+      xy.clear(), weight.clear(), target.clear();
+      float value[4];
+      for (uint32_t id : strip_tris[b]) {
+        const Tri& tr = in.tris[id];
+        if (!(face_weight[id] > 0)) continue;
+        const double area_atlas = 0.5 * std::abs((tr.x[1] - tr.x[0]) * (tr.y[2] - tr.y[0]) -
+                                                 (tr.x[2] - tr.x[0]) * (tr.y[1] - tr.y[0]));
+        const double area_source =
+            0.5 *
+            std::abs((tr.s[1] - tr.s[0]) * (tr.t[2] - tr.t[0]) - (tr.s[2] - tr.s[0]) * (tr.t[1] - tr.t[0])) *
+            in.sw * in.sh;
+        const double dense = std::max(area_atlas, area_source) * o.fit_samples_per_texel;
+        const int n = std::clamp(int(std::ceil(std::sqrt(dense))), 2, 96);
+        const float w = float(face_weight[id] * weight_scale / (double(n) * n));
+        for_each_surface_point(n, [&](double b0, double b1, double b2) {
+          const double x = b0 * tr.x[0] + b1 * tr.x[1] + b2 * tr.x[2];
+          const double y = b0 * tr.y[0] + b1 * tr.y[1] + b2 * tr.y[2];
+          if (y < r0 || y >= r1) return;
+          bilinear(in.linear, in.sw, in.sh, nch, ws, wt, b0 * tr.s[0] + b1 * tr.s[1] + b2 * tr.s[2],
+                   b0 * tr.t[0] + b1 * tr.t[1] + b2 * tr.t[2], value);
+          xy.push_back(float(x)), xy.push_back(float(y - r0));
+          // sRGB slots: the error that shows is in encoded values, so each
+          // sample weighs the squared slope of the sRGB curve at its colour
+          // (the fit is linear in linear light, the viewer's filter space).
+          float slope = 1;
+          if (in.srgb) {
+            slope = 0;
+            const int colours = std::min(nch, 3);
+            for (int c = 0; c < colours; ++c) {
+              const float v = std::max(value[c], 0.0031308f);
+              const float d = 1.055f / 2.4f * std::pow(v, 1.0f / 2.4f - 1.0f);
+              slope += d * d / float(colours);
+            }
+          }
+          weight.push_back(w * slope);
+          for (int c = 0; c < nch; ++c) target.push_back(value[c]);
+        });
+      }
+      if (weight.empty()) continue;
+      texels.resize(size_t(W) * rows * nch);
+      for (int y = r0; y < r1; ++y)
+        for (int x = 0; x < W; ++x)
+          for (int c = 0; c < nch; ++c)
+            texels[(size_t(y - r0) * W + x) * nch + c] = load(size_t(y) * W + x, c);
+      mask.assign(size_t(W) * rows, 0);
+      TexelFitReport r;
+      fit_texels(uint32_t(W), uint32_t(rows), nch, xy, weight, target, texels, o.fit, &r, mask);
+      mine.samples += r.samples, mine.fitted_texels += r.fitted_texels;
+      mine.iterations = std::max(mine.iterations, r.iterations);
+      mine.error_before += r.error_before, mine.error_after += r.error_after;
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < W; ++x) {
+          const size_t at = size_t(y - r0) * W + x;
+          if (!mask[at]) continue;
+          unknown[size_t(y) * W + x] = 1;
+          uint8_t* dst = pixels + (size_t(y) * W + x) * texel_bytes;
+          for (int c = 0; c < nch; ++c) {
+            float v = texels[at * nch + c];
+            if (in.srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
+            const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
+            if (in.deep)
+              reinterpret_cast<uint16_t*>(dst)[c] = uint16_t(q);
+            else
+              dst[c] = uint8_t(q);
+          }
+        }
+    }
+    std::lock_guard<std::mutex> lock(merge);
+    total.samples += mine.samples, total.fitted_texels += mine.fitted_texels;
+    total.iterations = std::max(total.iterations, mine.iterations);
+    total.error_before += mine.error_before, total.error_after += mine.error_after;
+  };
+  std::vector<std::thread> pool;
+  for (int i = 1; i < std::min(nthreads, strips); ++i) pool.emplace_back(worker);
+  worker();
+  for (std::thread& th : pool) th.join();
+
+  // Gutter texels the fit did not reach follow their nearest kept texel.
+  const int g = int(o.gutter);
+  const std::vector<uint8_t> fitted(pixels, pixels + size_t(W) * H * texel_bytes);
+  for (int y = 0; y < H; ++y)
+    for (int x = 0; x < W; ++x) {
+      const size_t at = size_t(y) * W + x;
+      if (kind[at] != 2 || unknown[at]) continue;
+      long best = 1L << 40;
+      size_t from = at;
+      for (int yy = std::max(0, y - g); yy <= std::min(H - 1, y + g); ++yy)
+        for (int xx = std::max(0, x - g); xx <= std::min(W - 1, x + g); ++xx) {
+          const size_t k = size_t(yy) * W + xx;
+          if (kind[k] != 1 && !unknown[k]) continue;
+          const long d = long(yy - y) * (yy - y) + long(xx - x) * (xx - x);
+          if (d < best) best = d, from = k;
+        }
+      if (from != at)
+        std::copy(&fitted[from * texel_bytes], &fitted[from * texel_bytes] + texel_bytes,
+                  pixels + at * texel_bytes);
+    }
+}
+
 }  // namespace
 
 WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> prims, uint32_t atlas_width,
@@ -393,6 +583,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   out.reset(ImageSpec(W, H, nch, out_type));
   const double qmax = deep ? 65535.0 : 255.0;
   std::vector<uint8_t> empty(size_t(W) * H, 0);
+  std::vector<uint8_t> kind(size_t(W) * H, 0);  // 1: covered, 2: gutter (filled by dilation)
   OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
   ts->attribute("automip", 1);
   ts->attribute("max_memory_MB", 512.0f);
@@ -545,6 +736,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
               dst8[c] = uint8_t(q);
             if (is_cov) my_sum[c] += q;
           }
+          kind[size_t(y) * W + x] = is_cov ? 1 : 2;
           if (is_cov)
             ++my_cov;
           else
@@ -567,6 +759,14 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   worker();
   for (std::thread& th : pool) th.join();
   OIIO::TextureSystem::destroy(ts);
+
+  // 3b. Least-squares texels, then the gutter again from them.
+  if (options.least_squares && keep_linear && !normal_map) {
+    const auto f0 = std::chrono::steady_clock::now();
+    FitInput in{tris, prims, linear, sw, sh, nch, W, H, srgb, deep, options};
+    fit_atlas(in, static_cast<uint8_t*>(out.localpixels()), kind, nthreads, report.fit);
+    report.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
+  }
 
   // 4. Everything else: the mean covered colour, flat and cheap to compress
   // as PNG; or, for JPEG, a pull-push fill (see EmptyFill).

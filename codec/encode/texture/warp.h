@@ -19,6 +19,8 @@
 
 #include <OpenImageIO/imagebuf.h>
 
+#include "codec/encode/texture/texel_fit.h"
+
 namespace gltfwarp {
 
 // glTF sampler wrap modes (wrapS / wrapT).
@@ -43,6 +45,10 @@ struct WarpPrimitive {
   std::span<const float> normals;       // 3 per corner: the shading normal
   std::span<const float> old_tangents;  // 4 per corner: frame of the source UVs (xyz, w)
   std::span<const float> new_tangents;  // 4 per corner: frame of the new UVs (xyz, w)
+  // Optional, one per face: its 3D area, the weight of its samples in the
+  // least-squares fit (what a viewer's screen sees). Empty: its source-UV
+  // area in source texels (what surface_error weighs).
+  std::span<const float> face_area;
 };
 
 // What the texels beyond every patch's gutter hold.
@@ -76,9 +82,19 @@ struct WarpOptions {
   // that keeps edges sharp, so the viewer's own bilinear pass is the only
   // blur. Minified lookups stay with the texture system's MIP filtering.
   bool cubic_magnification = true;
-  int threads = 0;       // worker threads; 0 = hardware concurrency
-  int band_rows = 32;    // rows per work item (memory is O(width * band_rows))
-  std::string temp_dir;  // where the filtered source is staged; empty = system temp
+  // Least-squares texels (texel_fit.h): after the point samples, the texels
+  // that patches' bilinear reconstruction reaches are solved for, so that
+  // what a viewer's bilinear filter shows best matches the source's own
+  // bilinear over the surface; the gutter is then filled from them. Colour
+  // and linear slots whose source fits in memory (as cubic_magnification);
+  // normal maps stay point-sampled (their target depends on the frames).
+  // Off by default: see EncodeOptions::least_squares_texels.
+  bool least_squares = false;
+  TexelFitOptions fit;
+  float fit_samples_per_texel = 4;  // surface samples per texel of the finer grid (atlas or source)
+  int threads = 0;                  // worker threads; 0 = hardware concurrency
+  int band_rows = 32;               // rows per work item (memory is O(width * band_rows))
+  std::string temp_dir;             // where the filtered source is staged; empty = system temp
 };
 
 enum class WarpStatus : uint8_t {
@@ -95,6 +111,10 @@ struct WarpReport {
   uint64_t lookups = 0;         // filtered source lookups
   double seconds = 0;
   double texels_per_second = 0;  // (covered + gutter) / seconds
+  // The least-squares fit, when it ran: its unknowns and samples, its
+  // error in linear values before/after (gain_db), its share of seconds.
+  TexelFitReport fit;
+  double fit_seconds = 0;
   std::string error;
 };
 

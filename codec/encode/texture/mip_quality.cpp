@@ -1,0 +1,157 @@
+// Surface quality at MIP levels 0-3 and in the worst region (see mip_quality.h).
+#include "codec/encode/texture/mip_quality.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace gltfwarp {
+
+void MipQuality::add(const MipQuality& o) {
+  for (int l = 0; l < kMipLevels; ++l) {
+    const bool mine = level[l].values > 0, theirs = o.level[l].values > 0;
+    worst_psnr[l] =
+        mine && theirs ? std::min(worst_psnr[l], o.worst_psnr[l]) : (mine ? worst_psnr[l] : o.worst_psnr[l]);
+    level[l].add(o.level[l]);
+  }
+}
+
+std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels) {
+  std::vector<TextureSampler> chain{s};
+  if (!s.ok) return chain;
+  while (int(chain.size()) < levels) {
+    const TextureSampler& up = chain.back();
+    const int w = up.pixels.spec().width, h = up.pixels.spec().height, nch = up.channels();
+    if (w == 1 && h == 1) break;
+    const int dw = std::max(1, w / 2), dh = std::max(1, h / 2);
+    TextureSampler down = up;
+    down.pixels.reset(OIIO::ImageSpec(dw, dh, nch, OIIO::TypeDesc::FLOAT));
+    const float* src = static_cast<const float*>(up.pixels.localpixels());
+    float* dst = static_cast<float*>(down.pixels.localpixels());
+    for (int y = 0; y < dh; ++y)
+      for (int x = 0; x < dw; ++x)
+        for (int c = 0; c < nch; ++c) {
+          double sum = 0;
+          for (int j = 0; j < 2; ++j)
+            for (int i = 0; i < 2; ++i) {
+              const int sx = std::min(w - 1, 2 * x + i), sy = std::min(h - 1, 2 * y + j);
+              sum += src[(size_t(sy) * w + sx) * nch + c];
+            }
+          dst[(size_t(y) * dw + x) * nch + c] = float(sum / 4);
+        }
+    chain.push_back(std::move(down));
+  }
+  return chain;
+}
+
+namespace {
+
+double uv_area(const float* u) {
+  return 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
+                        (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
+}
+
+// PSNR over the worst groups holding `fraction` of the values.
+double worst_region_psnr(std::vector<SurfaceError> groups, double fraction) {
+  uint64_t total = 0;
+  for (const SurfaceError& g : groups) total += g.values;
+  if (total == 0) return 0;
+  std::sort(groups.begin(), groups.end(), [](const SurfaceError& a, const SurfaceError& b) {
+    return a.squared * double(b.values) > b.squared * double(a.values);  // highest MSE first
+  });
+  SurfaceError worst;
+  for (const SurfaceError& g : groups) {
+    if (g.values == 0) continue;
+    worst.add(g);
+    if (double(worst.values) >= fraction * double(total)) break;
+  }
+  return worst.psnr();
+}
+
+// A chain sampled at a fractional LOD: bilinear in the two nearest levels, blended.
+void trilinear(const std::vector<TextureSampler>& chain, double lod, double u, double v, int channels,
+               float* out, float* scratch) {
+  const int l0 = int(std::floor(lod)), l1 = std::min(int(chain.size()) - 1, l0 + 1);
+  const float frac = float(lod - l0);
+  chain[size_t(l0)].sample(u, v, out);
+  if (frac > 0 && l1 != l0) {
+    chain[size_t(l1)].sample(u, v, scratch);
+    for (int c = 0; c < channels; ++c) out[c] = (1 - frac) * out[c] + frac * scratch[c];
+  }
+}
+
+}  // namespace
+
+MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler& atlas,
+                             std::span<const SurfaceUvs> prims, const MipQualityOptions& options) {
+  MipQuality q;
+  if (!source.ok || !atlas.ok) return q;
+  const auto& sspec = source.pixels.spec();
+  const auto& t = source.transform;
+  const double src_texels = double(sspec.width) * sspec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
+  const double atlas_texels = double(atlas.pixels.spec().width) * atlas.pixels.spec().height;
+  const int src_levels = 1 + int(std::ceil(std::log2(std::max(1, std::max(sspec.width, sspec.height)))));
+  const std::vector<TextureSampler> schain = mip_chain(source, std::min(src_levels, 16));
+  const int atlas_side = std::max(atlas.pixels.spec().width, atlas.pixels.spec().height);
+  const std::vector<TextureSampler> achain =
+      mip_chain(atlas, 1 + int(std::ceil(std::log2(std::max(1, atlas_side)))));
+  const int channels = std::min({3, source.channels(), atlas.channels()});
+  uint64_t total = 0;
+  std::vector<std::vector<int>> side(prims.size());
+  for (size_t p = 0; p < prims.size(); ++p) {
+    const size_t nf = std::min(prims[p].source_uv.size(), prims[p].atlas_uv.size()) / 6;
+    side[p].resize(nf);
+    for (size_t f = 0; f < nf; ++f) {
+      const int n = surface_points_per_side(uv_area(&prims[p].source_uv[6 * f]) * src_texels);
+      side[p][f] = n;
+      total += uint64_t(n) * n;
+    }
+  }
+  const uint64_t stride =
+      std::max<uint64_t>(1, (total + options.max_points - 1) / std::max<uint64_t>(1, options.max_points));
+  std::vector<float> a(4), a2(4), b(4);
+  for (int l = 0; l < kMipLevels; ++l) {
+    std::vector<SurfaceError> groups;
+    uint64_t face_index = 0;
+    for (size_t p = 0; p < prims.size(); ++p) {
+      const float* su = prims[p].source_uv.data();
+      const float* du = prims[p].atlas_uv.data();
+      for (size_t f = 0; f < side[p].size(); ++f, ++face_index) {
+        if (face_index % stride != 0) continue;
+        const float* s = su + 6 * f;
+        const float* d = du + 6 * f;
+        const double sa = uv_area(s) * src_texels, da = uv_area(d) * atlas_texels;
+        if (!(da > 0)) continue;
+        // Level l: a screen footprint of 2^l texels of the finer grid; each
+        // side at its own LOD there (trilinear), so level 0 magnifies both (the plain surface PSNR).
+        const double rho = 0.5 * std::log2(std::max(sa, 1e-30) / da);  // log2 source texels per atlas texel
+        const double slod = std::clamp(l + std::max(0.0, rho), 0.0, double(schain.size() - 1));
+        const double alod = std::clamp(l + std::max(0.0, -rho), 0.0, double(achain.size() - 1));
+        SurfaceError face;
+        for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
+          const double us = w0 * s[0] + w1 * s[2] + w2 * s[4], vs = w0 * s[1] + w1 * s[3] + w2 * s[5];
+          trilinear(schain, slod, us, vs, channels, a.data(), a2.data());
+          trilinear(achain, alod, w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5],
+                    channels, b.data(), a2.data());
+          for (int c = 0; c < channels; ++c) {
+            const double diff = 255.0 * (double(a[c]) - b[c]);
+            face.squared += diff * diff;
+          }
+          face.values += uint64_t(channels);
+        });
+        q.level[l].add(face);
+        const auto& g = prims[p].group_of_face;
+        const size_t group = f < g.size() ? g[f] : face_index;
+        if (f < g.size()) {
+          if (group >= groups.size()) groups.resize(group + 1);
+          groups[group].add(face);
+        } else {
+          groups.push_back(face);
+        }
+      }
+    }
+    q.worst_psnr[l] = worst_region_psnr(std::move(groups), options.worst_fraction);
+  }
+  return q;
+}
+
+}  // namespace gltfwarp
