@@ -7,6 +7,7 @@ import { lowerNeighbours, vertexFaces } from './mesh_adjacency.js';
 import { decodePartition } from './partition.js';
 import { decodePlacements, facesByPatch } from './placements.js';
 import { layoutPatches } from './layout_replay.js';
+import { solvePatchAt } from './layout_solve.js';
 import { readHeader } from './stream_header.js';
 import { patchScale, rotationCosSin } from './transform_tables.js';
 
@@ -40,7 +41,7 @@ export function decodeUvs(mesh, bytes) {
   }
   const W = header.atlasWidth, H = header.atlasHeight;
   const uv = new Float32Array(2 * indices.length);
-  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, (p, f, xy) => {
+  const emit = (p, f, xy) => {
     const a = sc[p], b = ss[p], x0 = placements.x[p], y0 = placements.y[p];
     for (let k = 0; k < 3; ++k) {
       const px = xy[2 * k], py = xy[2 * k + 1];
@@ -49,6 +50,9 @@ export function decodeUvs(mesh, bytes) {
       uv[6 * f + 2 * k] = tx / W; // Float32Array store: round to nearest even
       uv[6 * f + 2 * k + 1] = ty / H;
     }
-  });
+  };
+  // 1.2: solve patches (section 6.7) are skipped by the replay and laid out apart.
+  const solveAt = header.solve ? solvePatchAt(positions, indices, byPatch, placements.method, header.solve, emit) : null;
+  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, emit, solveAt);
   return { uv, header, patchOfFace, placements };
 }

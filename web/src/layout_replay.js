@@ -137,7 +137,7 @@ function placeSeed(pos, v0, v1, v2, sp) {
 // indices: Uint32Array (all < vertexCount), patchOfFace / byPatch / seeds from
 // the stream. emit(patch, face, xy) gets each face once its patch is placed,
 // xy a Float64Array of 6 (reused between calls).
-export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit) {
+export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, solveAt = null) {
   const nf = patchOfFace.length, nc = 3 * nf;
   // Incidences per vertex, sorted by (patch, face): filled patch by patch.
   const offsets = new Uint32Array(vertexCount + 1);
@@ -168,6 +168,7 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
   let stamp = 0;
 
   for (let p = 0; p < patchCount; ++p) {
+    if (solveAt && solveAt(p)) continue; // 1.2: a solve patch (layout_solve.js), laid out in patch order
     const mark = p + 1;
     const seed = seeds[p];
     placeSeed(pos, indices[3 * seed], indices[3 * seed + 1], indices[3 * seed + 2], sp);
