@@ -11,9 +11,18 @@
 //   - our encode (default options and a few texture settings), its file
 //     bytes, bitstream bytes, atlas report, encode and decode times;
 //   - the Draco-12 explicit-UV file with the original images (the baseline
-//     a user would otherwise ship), and the same with images re-encoded as
-//     JPEG at the qualities the plot uses;
-//   - texture-space PSNR of each decoded file against the source (below);
+//     a user would otherwise ship);
+//   - the rate-distortion curves the BD-rate compares (issue 16; report.py,
+//     bdrate.py): ours at default, --fixed-density, PNG and a JPEG quality
+//     ladder; baseline 1, the Draco-12 explicit-UV file with the source
+//     images of the TEXCOORD_0 slots through the same image encoder at the
+//     same settings (the ladder, PNG on top); baseline 2, the same with the
+//     images downscaled 0.71x and 0.5x first;
+//   - texture-space PSNR of each decoded file against the source (below),
+//     and a rendered-view PSNR (benchmarks/render_view.h: six orthographic
+//     views, unlit base colour, trilinear mipmaps, foreground pixels) at
+//     1024 px and minified at 256 px, with where the error sits (per mip
+//     level, and the share the worst 1% carry);
 //   - decode time of ours against decode of the Draco-12 explicit-UV file,
 //     both through decode_model in this process, median of --runs runs.
 // It also writes the files scripts/bench hands to gltfpack: the textured
@@ -39,11 +48,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
+#include <memory>
 #include <set>
 #include <string>
 #include <vector>
 
+#include <OpenImageIO/imagebufalgo.h>
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
@@ -52,12 +64,13 @@
 #include "codec/encode/encoder.h"
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/texture_sampler.h"
-#include "format/bitstream/uvmap_codec.h"
 #include "format/gltf/draco_geometry.h"
 #include "format/gltf/extension.h"
 #include "format/gltf/gltf_io.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
+
+#include "benchmarks/render_view.h"
 
 using namespace gltfwarp;
 using json = nlohmann::ordered_json;
@@ -100,7 +113,7 @@ std::vector<VertexAttribute> without(const std::vector<VertexAttribute>& attrs,
 
 // ---------------------------------------------------------------- sampling
 
-// A slot's texture as a viewer samples it (codec/encode/texture/texture_sampler.h), as RGB
+// A slot's texture as a viewer samples it (codec/texture_sampler.h), as RGB
 // on the 0..255 scale; grey images give their one channel three times.
 void sample(const TextureSampler& t, double u, double v, float out[3]) {
   float px[4] = {0, 0, 0, 0};
@@ -154,113 +167,216 @@ std::vector<float> as_floats(const VertexAttribute& a) {
   return v;
 }
 
+// Colour slots sampled through TEXCOORD_0 (normal maps excepted, see the file comment).
+std::vector<TextureSlot> colour_slots(const tinygltf::Model& m, int material) {
+  std::vector<TextureSlot> out;
+  for (const auto& s : texture_slots(m, material))
+    if (!s.normal_map && s.tex_coord == 0) out.push_back(s);
+  return out;
+}
+
+// The source primitives the benchmark measures: triangles whose material
+// samples a colour slot through TEXCOORD_0. Fixed by the source, so every
+// point of a curve is measured over the same surface, whatever it kept.
+std::vector<std::pair<int, int>> textured_primitives(const tinygltf::Model& m) {
+  std::vector<std::pair<int, int>> out;
+  for (size_t mi = 0; mi < m.meshes.size(); ++mi)
+    for (size_t pi = 0; pi < m.meshes[mi].primitives.size(); ++pi) {
+      const auto& p = m.meshes[mi].primitives[pi];
+      if (is_triangle_mode(p.mode) && p.attributes.count("TEXCOORD_0") &&
+          !colour_slots(m, p.material).empty())
+        out.push_back({int(mi), int(pi)});
+    }
+  return out;
+}
+
 // Texture-space PSNR of `decoded` (plain accessors, TEXCOORD_0 present)
-// against `source`, over the primitives listed in `prims`.
+// against `source`, over the source primitives listed in `prims`.
+//
+// The encoder appends the parts of a primitive it cut (one per atlas page)
+// after its mesh's own primitives, and the report names them by their
+// decoded indices. So the source side is indexed by source primitives only:
+// where a decoded mesh has as many primitives as its source, decoded
+// primitive i is matched against source primitive i; where it has more (a
+// cut), every textured decoded primitive of the mesh is matched against the
+// listed source primitives of that mesh joined into one geometry, and each
+// decoded face finds its own source face (and that face's textures) by
+// position.
+//
+// Also the worst region: the share of the squared error that the worst 1%
+// of the samples (grouped by face, worst faces first) carry.
+struct SourcePart {
+  std::vector<std::pair<std::string, std::pair<const TextureSampler*, std::array<double, 6>>>> slots;
+};
+
 Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
-                  const std::vector<std::pair<int, int>>& prims, int position_bits) {
+                  const std::vector<std::pair<int, int>>& prims, int position_bits,
+                  double* worst1 = nullptr) {
   Psnr r;
   TextureCache sc{&source, {}}, dc{&decoded, {}};
-  for (auto [mi, pi] : prims) {
-    const auto& sp = source.meshes[mi].primitives[pi];
-    const auto& dp = decoded.meshes[mi].primitives[pi];
-    PrimitiveGeometry sg, dg;
-    if (!read_primitive(source, sp, sg).empty() || !read_primitive(decoded, dp, dg).empty())
-      fail("read_primitive");
-    const VertexAttribute *spos = sg.find("POSITION"), *dpos = dg.find("POSITION");
-    const VertexAttribute *suv_a = sg.find("TEXCOORD_0"), *duv_a = dg.find("TEXCOORD_0");
-    if (!spos || !dpos || !suv_a || !duv_a) fail("psnr: primitive lacks POSITION or TEXCOORD_0");
-    const std::vector<float> sposf = as_floats(*spos), dposf = as_floats(*dpos);
-    const std::vector<float> suv = as_floats(*suv_a), duv = as_floats(*duv_a);
-    // Tolerance: a Draco position quantization step of the source's extent.
-    float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
-    for (size_t i = 0; i < sposf.size(); ++i) {
-      lo[i % 3] = std::min(lo[i % 3], sposf[i]);
-      hi[i % 3] = std::max(hi[i % 3], sposf[i]);
+  std::vector<std::pair<double, size_t>> face_errors;  // (sse, samples) per face, for the worst share
+  std::map<int, std::vector<int>> by_mesh;
+  for (auto [mi, pi] : prims)
+    if (mi >= 0 && mi < int(source.meshes.size()) && pi >= 0 &&
+        pi < int(source.meshes[size_t(mi)].primitives.size()))
+      by_mesh[mi].push_back(pi);
+  for (const auto& [mi, spis] : by_mesh) {
+    if (mi >= int(decoded.meshes.size())) fail("psnr: decoded model lacks mesh " + std::to_string(mi));
+    const auto& sprims = source.meshes[size_t(mi)].primitives;
+    const auto& dprims = decoded.meshes[size_t(mi)].primitives;
+    if (dprims.size() < sprims.size()) fail("psnr: mesh " + std::to_string(mi) + " lost primitives");
+    const bool cut = dprims.size() > sprims.size();
+    // Pairs (decoded primitive, source primitives it may come from).
+    std::vector<std::pair<int, std::vector<int>>> pairs;
+    if (!cut) {
+      for (int pi : spis) pairs.push_back({pi, {pi}});
+    } else {
+      for (size_t di = 0; di < dprims.size(); ++di)
+        if (is_triangle_mode(dprims[di].mode) && !colour_slots(decoded, dprims[di].material).empty())
+          pairs.push_back({int(di), spis});
     }
-    const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-20f});
-    const double tol = 1.01 * extent / double((1u << position_bits) - 1);
-    const CornerMatch cm = match_corners(sposf, sg.triangles, dposf, dg.triangles, tol);
-    // Slot pairs, by slot name; normal maps excepted (see the file comment).
-    std::vector<std::pair<const TextureSampler*, const TextureSampler*>> slots;
-    std::vector<std::array<double, 6>> xforms_s, xforms_d;
-    const auto ss = texture_slots(source, sp.material), ds = texture_slots(decoded, dp.material);
-    for (const auto& s : ss) {
-      if (s.normal_map || s.tex_coord != 0) continue;
-      for (const auto& d : ds) {
-        if (d.name() != s.name()) continue;
-        const bool srgb = s.color_space == ColorSpace::srgb;
-        const TextureSampler *a = sc.get(s.texture, srgb), *b = dc.get(d.texture, srgb);
-        if (a && b) {
-          slots.push_back({a, b});
-          xforms_s.push_back(s.transform);
-          xforms_d.push_back(d.transform);
+    for (const auto& [di, candidates] : pairs) {
+      // The source side: the candidates joined (positions, UVs, per face its part's slots).
+      std::vector<float> sposf, suv;
+      std::vector<uint32_t> stris;
+      std::vector<int> face_part;
+      std::vector<SourcePart> parts;
+      for (int pi : candidates) {
+        const auto& sp = sprims[size_t(pi)];
+        PrimitiveGeometry sg;
+        if (!read_primitive(source, sp, sg).empty()) fail("read_primitive");
+        const VertexAttribute *spos = sg.find("POSITION"), *suv_a = sg.find("TEXCOORD_0");
+        if (!spos || !suv_a) fail("psnr: source primitive lacks POSITION or TEXCOORD_0");
+        const uint32_t base = uint32_t(sposf.size() / 3);
+        const std::vector<float> p = as_floats(*spos), t = as_floats(*suv_a);
+        sposf.insert(sposf.end(), p.begin(), p.end());
+        suv.insert(suv.end(), t.begin(), t.end());
+        for (uint32_t v : sg.triangles) stris.push_back(base + v);
+        face_part.insert(face_part.end(), sg.triangles.size() / 3, int(parts.size()));
+        SourcePart part;
+        for (const auto& s : colour_slots(source, sp.material))
+          if (const TextureSampler* a = sc.get(s.texture, s.color_space == ColorSpace::srgb))
+            part.slots.push_back({s.name(), {a, s.transform}});
+        parts.push_back(std::move(part));
+      }
+      const auto& dp = dprims[size_t(di)];
+      PrimitiveGeometry dg;
+      if (!read_primitive(decoded, dp, dg).empty()) fail("read_primitive");
+      const VertexAttribute *dpos = dg.find("POSITION"), *duv_a = dg.find("TEXCOORD_0");
+      if (!dpos || !duv_a) fail("psnr: decoded primitive lacks POSITION or TEXCOORD_0");
+      const std::vector<float> dposf = as_floats(*dpos), duv = as_floats(*duv_a);
+      std::map<std::string, std::pair<const TextureSampler*, std::array<double, 6>>> dslots;
+      for (const auto& s : colour_slots(decoded, dp.material))
+        if (const TextureSampler* b = dc.get(s.texture, s.color_space == ColorSpace::srgb))
+          dslots[s.name()] = {b, s.transform};
+      // Tolerance: a Draco position quantization step of the source's extent.
+      float lo[3] = {1e30f, 1e30f, 1e30f}, hi[3] = {-1e30f, -1e30f, -1e30f};
+      for (size_t i = 0; i < sposf.size(); ++i) {
+        lo[i % 3] = std::min(lo[i % 3], sposf[i]);
+        hi[i % 3] = std::max(hi[i % 3], sposf[i]);
+      }
+      const double extent = std::max({hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2], 1e-20f});
+      const double tol = 1.01 * extent / double((1u << position_bits) - 1);
+      const CornerMatch cm = match_corners(sposf, stris, dposf, dg.triangles, tol);
+      const char* debug = std::getenv("GLTFWARP_COMPARE_DEBUG");
+      const TextureSampler* ref =
+          parts.empty() || parts[0].slots.empty() ? nullptr : parts[0].slots[0].second.first;
+      const int ref_w = ref ? ref->pixels.spec().width : 1, ref_h = ref ? ref->pixels.spec().height : 1;
+      std::vector<float> debug_img(debug && ref ? size_t(ref_w) * ref_h * 3 : 0);
+      auto repeat = [](int i, int n) { return ((i % n) + n) % n; };
+      const size_t nf = dg.triangles.size() / 3;
+      for (size_t f = 0; f < nf; ++f) {
+        double su[3][2], du[3][2];
+        bool ok = true;
+        const uint32_t sface = cm.source_corner[3 * f] / 3;
+        for (int k = 0; k < 3; ++k) {
+          const uint32_t sc_ = cm.source_corner[3 * f + k];
+          const uint32_t sv = stris[sc_], dv = dg.triangles[3 * f + k];
+          double d2 = 0;
+          for (int i = 0; i < 3; ++i) d2 += std::pow(double(sposf[3 * sv + i]) - dposf[3 * dv + i], 2);
+          if (std::sqrt(d2) > 2 * tol) ok = false;
+          su[k][0] = suv[2 * sv];
+          su[k][1] = suv[2 * sv + 1];
+          du[k][0] = duv[2 * dv];
+          du[k][1] = duv[2 * dv + 1];
         }
-      }
-    }
-    if (slots.empty()) continue;
-    const TextureSampler* ref = slots[0].first;
-    const int ref_w = ref->pixels.spec().width, ref_h = ref->pixels.spec().height;
-    const char* debug = std::getenv("GLTFWARP_COMPARE_DEBUG");
-    std::vector<float> debug_img(debug ? size_t(ref_w) * ref_h * 3 : 0);
-    auto repeat = [](int i, int n) { return ((i % n) + n) % n; };
-    const size_t nf = dg.triangles.size() / 3;
-    for (size_t f = 0; f < nf; ++f) {
-      double su[3][2], du[3][2];
-      bool ok = true;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t sc_ = cm.source_corner[3 * f + k];
-        const uint32_t sv = sg.triangles[sc_], dv = dg.triangles[3 * f + k];
-        double d2 = 0;
-        for (int i = 0; i < 3; ++i) d2 += std::pow(double(sposf[3 * sv + i]) - dposf[3 * dv + i], 2);
-        if (std::sqrt(d2) > 2 * tol) ok = false;
-        su[k][0] = suv[2 * sv];
-        su[k][1] = suv[2 * sv + 1];
-        du[k][0] = duv[2 * dv];
-        du[k][1] = duv[2 * dv + 1];
-      }
-      if (!ok) {
-        r.faces_skipped++;
-        continue;
-      }
-      const double area = 0.5 *
-                          std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
-                                   (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
-                          ref_w * ref_h;
-      const int n = std::clamp(int(std::ceil(std::sqrt(area))), 2, 64);
-      auto visit = [&](double b1, double b2) {
-        const double b0 = 1 - b1 - b2;
-        const double u0 = b0 * su[0][0] + b1 * su[1][0] + b2 * su[2][0];
-        const double v0 = b0 * su[0][1] + b1 * su[1][1] + b2 * su[2][1];
-        const double u1 = b0 * du[0][0] + b1 * du[1][0] + b2 * du[2][0];
-        const double v1 = b0 * du[0][1] + b1 * du[1][1] + b2 * du[2][1];
-        for (size_t s = 0; s < slots.size(); ++s) {
-          const auto& A = xforms_s[s];
-          const auto& B = xforms_d[s];
-          float ca[3], cb[3];
-          sample(*slots[s].first, A[0] * u0 + A[1] * v0 + A[2], A[3] * u0 + A[4] * v0 + A[5], ca);
-          sample(*slots[s].second, B[0] * u1 + B[1] * v1 + B[2], B[3] * u1 + B[4] * v1 + B[5], cb);
-          for (int c = 0; c < 3; ++c) r.sse += double(ca[c] - cb[c]) * (ca[c] - cb[c]);
-          r.samples++;
-          if (debug && s == 0) {
-            const int x = repeat(int(std::floor(u0 * ref_w)), ref_w);
-            const int y = repeat(int(std::floor(v0 * ref_h)), ref_h);
-            for (int c = 0; c < 3; ++c) debug_img[(size_t(y) * ref_w + x) * 3 + c] = cb[c] / 255.0f;
+        if (!ok) {
+          r.faces_skipped++;
+          continue;
+        }
+        // Slot pairs of this face, by slot name.
+        struct SlotPair {
+          const TextureSampler* a;
+          const std::array<double, 6>* ta;
+          const TextureSampler* b;
+          const std::array<double, 6>* tb;
+        };
+        std::vector<SlotPair> pairs_here;
+        const SourcePart& part = parts[size_t(face_part[sface])];
+        for (const auto& [name, a] : part.slots) {
+          auto it = dslots.find(name);
+          if (it != dslots.end())
+            pairs_here.push_back({a.first, &a.second, it->second.first, &it->second.second});
+        }
+        if (pairs_here.empty()) continue;
+        const TextureSampler* face_ref = pairs_here[0].a;
+        const double area = 0.5 *
+                            std::abs((su[1][0] - su[0][0]) * (su[2][1] - su[0][1]) -
+                                     (su[2][0] - su[0][0]) * (su[1][1] - su[0][1])) *
+                            face_ref->pixels.spec().width * face_ref->pixels.spec().height;
+        const int n = std::clamp(int(std::ceil(std::sqrt(area))), 2, 64);
+        const double sse0 = r.sse;
+        const size_t samples0 = r.samples;
+        auto visit = [&](double b1, double b2) {
+          const double b0 = 1 - b1 - b2;
+          const double u0 = b0 * su[0][0] + b1 * su[1][0] + b2 * su[2][0];
+          const double v0 = b0 * su[0][1] + b1 * su[1][1] + b2 * su[2][1];
+          const double u1 = b0 * du[0][0] + b1 * du[1][0] + b2 * du[2][0];
+          const double v1 = b0 * du[0][1] + b1 * du[1][1] + b2 * du[2][1];
+          for (size_t s = 0; s < pairs_here.size(); ++s) {
+            const auto& A = *pairs_here[s].ta;
+            const auto& B = *pairs_here[s].tb;
+            float ca[3], cb[3];
+            sample(*pairs_here[s].a, A[0] * u0 + A[1] * v0 + A[2], A[3] * u0 + A[4] * v0 + A[5], ca);
+            sample(*pairs_here[s].b, B[0] * u1 + B[1] * v1 + B[2], B[3] * u1 + B[4] * v1 + B[5], cb);
+            for (int c = 0; c < 3; ++c) r.sse += double(ca[c] - cb[c]) * (ca[c] - cb[c]);
+            r.samples++;
+            if (!debug_img.empty() && s == 0 && face_part[sface] == 0) {
+              const int x = repeat(int(std::floor(u0 * ref_w)), ref_w);
+              const int y = repeat(int(std::floor(v0 * ref_h)), ref_h);
+              for (int c = 0; c < 3; ++c) debug_img[(size_t(y) * ref_w + x) * 3 + c] = cb[c] / 255.0f;
+            }
           }
-        }
-      };
-      for (int i = 0; i < n; ++i)
-        for (int j = 0; i + j < n; ++j) {
-          visit((i + 1.0 / 3) / n, (j + 1.0 / 3) / n);
-          if (i + j < n - 1) visit((i + 2.0 / 3) / n, (j + 2.0 / 3) / n);
-        }
+        };
+        for (int i = 0; i < n; ++i)
+          for (int j = 0; i + j < n; ++j) {
+            visit((i + 1.0 / 3) / n, (j + 1.0 / 3) / n);
+            if (i + j < n - 1) visit((i + 2.0 / 3) / n, (j + 2.0 / 3) / n);
+          }
+        if (worst1) face_errors.push_back({r.sse - sse0, r.samples - samples0});
+      }
+      if (!debug_img.empty()) {  // the decoded colours painted at the source UVs: compare by eye with the
+                                 // source texture
+        OIIO::ImageBuf img(OIIO::ImageSpec(ref_w, ref_h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
+        static int call = 0;
+        img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" +
+                      std::to_string(di) + ".png",
+                  OIIO::TypeDesc::UINT8);
+      }
     }
-    if (debug) {  // the decoded colours painted at the source UVs: compare by eye with the source texture
-      OIIO::ImageBuf img(OIIO::ImageSpec(ref_w, ref_h, 3, OIIO::TypeDesc::FLOAT), debug_img.data());
-      static int call = 0;
-      img.write(std::string(debug) + "_" + std::to_string(call++) + "_" + std::to_string(mi) + "_" +
-                    std::to_string(pi) + ".png",
-                OIIO::TypeDesc::UINT8);
+  }
+  if (worst1) {  // worst faces first (by mean error per sample) until 1% of the samples
+    std::sort(face_errors.begin(), face_errors.end(), [](const auto& a, const auto& b) {
+      return a.first * double(b.second) > b.first * double(a.second);
+    });
+    double sse = 0;
+    size_t n = 0;
+    for (const auto& [e, k] : face_errors) {
+      if (double(n) >= 0.01 * double(r.samples)) break;
+      sse += e;
+      n += k;
     }
+    *worst1 = r.sse > 0 ? sse / r.sse : 0;
   }
   return r;
 }
@@ -344,19 +460,6 @@ std::vector<uint8_t> read_view(const tinygltf::Model& m, int view) {
   return {buf.begin() + bv.byteOffset, buf.begin() + bv.byteOffset + bv.byteLength};
 }
 
-float first_texel_scale(const tinygltf::Model& m) {
-  for (const auto& mesh : m.meshes)
-    for (const auto& p : mesh.primitives) {
-      auto it = p.extensions.find(ext::kName);
-      if (it == p.extensions.end()) continue;
-      const int view = it->second.Get(ext::kBufferView).GetNumberAsInt();
-      const std::vector<uint8_t> bytes = read_view(m, view);
-      UvStreamInfo info;
-      if (read_uvmap_info(bytes, info) == UvStatus::ok) return info.texel_scale;
-    }
-  return 0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -367,7 +470,20 @@ int main(int argc, char** argv) {
   app.add_option("input", input, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
   app.add_option("--work", work, "Directory for the files handed to gltfpack / draco_decoder")->required();
   app.add_option("--runs", runs, "Decode runs (median)")->check(CLI::Range(1, 101));
-  app.add_flag("!--no-rd", rd, "Skip the rate-distortion variants (texture settings) for the plot");
+  app.add_flag("!--no-rd", rd, "Skip the rate-distortion curves (the BD-rate ladder and both baselines)");
+  uint32_t max_atlas_size = EncodeOptions{}.max_atlas_size;
+  app.add_option("--max-atlas-size", max_atlas_size,
+                 "Every encode's --max-atlas-size (small values force page cuts)");
+  bool always_implicit = false;
+  app.add_flag("--always-implicit", always_implicit,
+               "Our encodes never fall back to explicit UVs (encode --always-implicit)");
+  int render_size = 1024, render_small = 256;
+  app.add_option("--render-size", render_size, "Rendered views: side in pixels (0: no render)")
+      ->check(CLI::Range(0, 8192));
+  app.add_option("--render-small", render_small, "Rendered views, minified: side in pixels (0: none)")
+      ->check(CLI::Range(0, 8192));
+  std::vector<int> ladder = {10, 20, 30, 50, 70, 85, 95};
+  app.add_option("--jpeg-ladder", ladder, "JPEG qualities of both curves")->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
   fs::create_directories(work);
 
@@ -386,7 +502,9 @@ int main(int argc, char** argv) {
   out["vertices"] = verts;
 
   // Ours, default options.
-  const EncodeOptions defaults;
+  EncodeOptions defaults;
+  defaults.max_atlas_size = max_atlas_size;
+  defaults.quality_fallback = !always_implicit;
   Timed ours = encode(src, defaults);
   std::vector<std::pair<int, int>> replaced;
   size_t bitstream = 0, unmatched = 0;
@@ -408,7 +526,14 @@ int main(int argc, char** argv) {
     }
   const std::string ours_path = work + "/ours.glb";
   save(ours.model, ours_path);
+  // The source primitives behind `replaced`: the report names the parts of a
+  // cut primitive by their decoded indices, appended after the mesh's own.
+  std::vector<std::pair<int, int>> replaced_src;
+  for (auto [mi, pi] : replaced)
+    if (pi < int(src.meshes[size_t(mi)].primitives.size())) replaced_src.push_back({mi, pi});
+  const std::vector<std::pair<int, int>> textured = textured_primitives(src);
   out["primitives_replaced"] = replaced.size();
+  out["primitives_textured"] = textured.size();
   size_t quality_fallback = 0;  // textured primitives the quality floor left with explicit UVs
   for (const auto& p : ours.report.primitives)
     if (p.handling.find("the warped atlas reached") != std::string::npos) ++quality_fallback;
@@ -426,7 +551,7 @@ int main(int argc, char** argv) {
   // Explicit-UV costs per replaced primitive, in-process Draco.
   size_t uv_draco[3] = {0, 0, 0}, tangent = 0;
   const int bits[3] = {10, 12, 14};
-  for (auto [mi, pi] : replaced) {
+  for (auto [mi, pi] : replaced_src) {
     PrimitiveGeometry g;
     if (!read_primitive(src, src.meshes[mi].primitives[pi], g).empty()) fail("read_primitive");
     // Both sides welded (byte-identical vertices merged), so duplicates the source file happens
@@ -453,7 +578,7 @@ int main(int argc, char** argv) {
   {  // The same primitives as OBJ (v, vn, vt per source vertex) for the draco_encoder CLI cross-check.
     std::ofstream with_uv(work + "/uv.obj"), no_uv(work + "/nouv.obj");
     size_t base = 0;
-    for (auto [mi, pi] : replaced) {
+    for (auto [mi, pi] : replaced_src) {
       PrimitiveGeometry g;
       if (!read_primitive(src, src.meshes[mi].primitives[pi], g).empty()) fail("read_primitive");
       const std::vector<float> p = as_floats(*g.find("POSITION")), t = as_floats(*g.find("TEXCOORD_0"));
@@ -507,7 +632,7 @@ int main(int argc, char** argv) {
     replace_images(
         a, [](const std::vector<uint8_t>&) { return kPng; }, "image/png");
     tinygltf::Model b = a;
-    for (auto [mi, pi] : replaced) {
+    for (auto [mi, pi] : replaced_src) {
       a.meshes[mi].primitives[pi].attributes.erase("TANGENT");
       b.meshes[mi].primitives[pi].attributes.erase("TANGENT");
       b.meshes[mi].primitives[pi].attributes.erase("TEXCOORD_0");
@@ -522,6 +647,7 @@ int main(int argc, char** argv) {
   EncodeOptions explicit12;
   explicit12.implicit_uvs = false;
   explicit12.draco.texcoord_bits = 12;
+  explicit12.max_atlas_size = max_atlas_size;
   Timed d12 = encode(src, explicit12);
   const std::string d12_path = work + "/draco12.glb";
   save(d12.model, d12_path);
@@ -559,72 +685,140 @@ int main(int argc, char** argv) {
   out["decode_ratio"] = median(t_d12) > 0 ? median(t_ours) / median(t_d12) : 0.0;
   out["decode_runs"] = runs;
 
-  // Quality.
-  const Psnr q_ours = texture_psnr(src, ours_dec, replaced, defaults.draco.position_bits);
-  const Psnr q_d12 = texture_psnr(src, d12_dec, replaced, explicit12.draco.position_bits);
+  // Quality, over every textured source primitive (what the file shows,
+  // whatever the encoder kept explicit).
+  const Psnr q_ours = texture_psnr(src, ours_dec, textured, defaults.draco.position_bits);
+  const Psnr q_d12 = texture_psnr(src, d12_dec, textured, explicit12.draco.position_bits);
   out["psnr_ours"] = q_ours.value();
   out["psnr_draco12"] = q_d12.value();
   out["psnr_samples"] = q_ours.samples;
   out["psnr_faces_skipped"] = q_ours.faces_skipped;
 
-  // Rate-distortion points for the plot.
+  // Rate-distortion curves (issue 16): each point is a real file a user gets,
+  // measured on the surface and in rendered views.
   json points = json::array();
-  points.push_back(
-      {{"codec", "ours"}, {"setting", "default"}, {"bytes", file_size(ours_path)}, {"psnr", q_ours.value()}});
-  points.push_back({{"codec", "draco12"},
-                    {"setting", "original images"},
-                    {"bytes", file_size(d12_path)},
-                    {"psnr", q_d12.value()}});
-  if (rd && !replaced.empty()) {
-    const float scale = first_texel_scale(ours.model);
+  std::unique_ptr<bench::Scene> src_scene;
+  if (render_size > 0 || render_small > 0) src_scene = std::make_unique<bench::Scene>(src);
+  auto measure = [&](const std::string& curve, const std::string& setting, const std::string& path,
+                     const tinygltf::Model& dec, int position_bits, json extra) {
+    double worst = 0;
+    const Psnr q = texture_psnr(src, dec, textured, position_bits, &worst);
+    json pt = {{"curve", curve},     {"codec", curve == "ours" ? "ours" : "draco12"},
+               {"setting", setting}, {"bytes", file_size(path)},
+               {"psnr", q.value()},  {"surface_worst1_share", worst}};
+    if (src_scene) {
+      const bench::Scene dec_scene(dec);
+      for (int size : {render_size, render_small}) {
+        if (size <= 0) continue;
+        const bench::RenderComparison rc = bench::compare_renders(*src_scene, dec_scene, size);
+        const std::string k = size == render_size ? "render" : "render_small";
+        pt["psnr_" + k] = rc.psnr();
+        pt[k + "_pixels"] = rc.pixels;
+        pt[k + "_worst1_share"] = rc.worst_share(0.01);
+        json by_lod = json::array();
+        for (size_t l = 0; l < 4; ++l)
+          by_lod.push_back({{"pixels", rc.pixels_by_lod[l]},
+                            {"psnr", bench::RenderComparison::psnr_of(rc.sse_by_lod[l], rc.pixels_by_lod[l])},
+                            {"error_share", rc.sse > 0 ? rc.sse_by_lod[l] / rc.sse : 0.0}});
+        pt[k + "_by_mip"] = by_lod;
+      }
+    }
+    for (auto& [key, v] : extra.items()) pt[key] = v;
+    points.push_back(pt);
+  };
+  // How many textured source primitives an encode left with explicit UVs
+  // (the encoder fell back for quality or size): the point stays a real file.
+  auto explicit_count = [&](const EncodeReport& rep) {
+    std::set<std::pair<int, int>> implicit_src;
+    for (const auto& p : rep.primitives)
+      if (p.handling.rfind("implicit-uv", 0) == 0 &&
+          p.primitive < int(src.meshes[size_t(p.mesh)].primitives.size()))
+        implicit_src.insert({p.mesh, p.primitive});
+    size_t n = 0;
+    for (const auto& t : textured) n += !implicit_src.count(t);
+    return n;
+  };
+  measure("ours", "default", ours_path, ours_dec, defaults.draco.position_bits,
+          {{"explicit_primitives", explicit_count(ours.report)}});
+  measure("source", "original images", d12_path, d12_dec, explicit12.draco.position_bits, json::object());
+  if (rd && !textured.empty()) {
     struct Variant {
-      std::string name;
-      std::string format;
-      int quality;
-      double density_factor;
+      std::string name, format;
+      int quality = 0;
+      bool fixed_density = false;
     };
-    const std::vector<Variant> vs = {{"jpeg q90", "jpeg", 90, 1},
-                                     {"jpeg q75", "jpeg", 75, 1},
-                                     {"jpeg q50", "jpeg", 50, 1},
-                                     {"png, density x0.5", "png", 0, 0.5},
-                                     {"jpeg q75, density x0.5", "jpeg", 75, 0.5}};
+    std::vector<Variant> vs = {{"fixed density", "keep", 0, true}, {"png", "png", 0, false}};
+    for (int q : ladder) vs.push_back({"jpeg q" + std::to_string(q), "jpeg", q, false});
     for (const auto& v : vs) {
-      EncodeOptions o;
+      EncodeOptions o = defaults;
       o.image_format = v.format;
       o.jpeg_quality = v.quality;
-      if (v.density_factor != 1) {
-        if (!(scale > 0)) continue;
-        o.texel_density = scale * v.density_factor;
-      }
+      o.adaptive_density = !v.fixed_density;
       Timed t = encode(src, o);
       const std::string p = work + "/ours_variant.glb";
       save(t.model, p);
-      const Psnr q = texture_psnr(src, decode(load(p)), replaced, o.draco.position_bits);
-      points.push_back(
-          {{"codec", "ours"}, {"setting", v.name}, {"bytes", file_size(p)}, {"psnr", q.value()}});
+      measure("ours", v.name, p, decode(load(p)), o.draco.position_bits,
+              {{"explicit_primitives", explicit_count(t.report)}, {"encode_s", t.seconds}});
     }
-    for (int quality : {90, 75, 50}) {
-      tinygltf::Model m = load(d12_path);
-      replace_images(
-          m,
-          [&](const std::vector<uint8_t>& bytes) {
-            DecodedImage d;
-            if (!decode_image(bytes, d).empty()) fail("decode source image");
-            ImageEncodeOptions eo;
-            eo.codec = ImageCodec::jpeg;
-            eo.jpeg_quality = quality;
-            std::vector<uint8_t> b;
-            if (!encode_image(d.pixels, eo, b).empty()) fail("encode jpeg");
-            return b;
-          },
-          "image/jpeg");
-      const std::string p = work + "/draco12_variant.glb";
-      save(m, p);
-      const Psnr q = texture_psnr(src, decode(load(p)), replaced, explicit12.draco.position_bits);
-      points.push_back({{"codec", "draco12"},
-                        {"setting", "jpeg q" + std::to_string(quality)},
-                        {"bytes", file_size(p)},
-                        {"psnr", q.value()}});
+    // Baselines: the Draco-12 explicit-UV file with the source images of the
+    // TEXCOORD_0 slots through the same image encoder (codec/image_io, the
+    // one our atlases go through) at the same settings; baseline 2 first
+    // downscales them (OIIO resize, its default filter, on the stored values).
+    std::set<int> images;
+    for (auto [mi, pi] : textured)
+      for (int mat : primitive_materials(src.meshes[size_t(mi)].primitives[size_t(pi)]))
+        for (const auto& s : texture_slots(src, mat))
+          if (s.tex_coord == 0)
+            if (const int im = texture_image(src, s.texture); im >= 0) images.insert(im);
+    const tinygltf::Model d12_file_model = load(d12_path);
+    std::map<int, DecodedImage> decoded_images;
+    for (int im : images) {
+      const auto& image = d12_file_model.images[size_t(im)];
+      std::vector<uint8_t> bytes = image.image;
+      if (bytes.empty() && image.bufferView >= 0) bytes = read_view(d12_file_model, image.bufferView);
+      if (!decode_image(bytes, decoded_images[im]).empty()) decoded_images.erase(im);
+    }
+    for (double scale : {1.0, 0.71, 0.5}) {
+      std::map<int, OIIO::ImageBuf> scaled;
+      for (auto& [im, d] : decoded_images) {
+        if (scale == 1.0) {
+          scaled[im] = d.pixels;
+          continue;
+        }
+        const auto& sp = d.pixels.spec();
+        const int w = std::max(1, int(std::lround(sp.width * scale))),
+                  h = std::max(1, int(std::lround(sp.height * scale)));
+        scaled[im] =
+            OIIO::ImageBufAlgo::resize(d.pixels, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, sp.nchannels));
+      }
+      std::vector<int> qualities = ladder;
+      qualities.push_back(0);  // PNG
+      for (int quality : qualities) {
+        tinygltf::Model m = d12_file_model;
+        for (auto& [im, pixels] : scaled) {
+          ImageEncodeOptions eo;
+          eo.codec = quality ? ImageCodec::jpeg : ImageCodec::png;
+          eo.jpeg_quality = quality ? quality : 90;
+          std::vector<uint8_t> b;
+          if (!encode_image(pixels, eo, b).empty()) fail("encode image");
+          auto& image = m.images[size_t(im)];
+          image.image = std::move(b);
+          image.as_is = true;
+          image.bufferView = -1;
+          image.uri.clear();
+          image.mimeType = quality ? "image/jpeg" : "image/png";
+          image.width = image.height = -1;
+        }
+        compact_buffers(m);
+        const std::string p = work + "/draco12_variant.glb";
+        save(m, p);
+        char name[64];
+        std::snprintf(name, sizeof name, "%s%s",
+                      quality ? ("jpeg q" + std::to_string(quality)).c_str() : "png",
+                      scale == 1.0 ? "" : (scale == 0.5 ? ", x0.5" : ", x0.71"));
+        measure(scale == 1.0 ? "b1" : "b2", name, p, decode(load(p)), explicit12.draco.position_bits,
+                {{"image_scale", scale}});
+      }
     }
   }
   out["rd"] = points;

@@ -1,16 +1,21 @@
 #!/usr/bin/python3
 """Tables, CSV and plot for scripts/bench (issue 6). Run by scripts/bench.
 
-  report.py ALL.jsonl OUTDIR          per-model results -> results.{md,csv,json}, rd.png
+  report.py ALL.jsonl OUTDIR          per-model results -> results.{md,csv,json}, rd.png,
+                                      bdrate.{md,csv} (issue 16: BD-rate against both baselines)
   report.py --large WORKDIR OUTDIR    large-mesh timings -> large.md, large.csv
   report.py --extract-drc IN.glb OUT.drc   first KHR_draco_mesh_compression buffer of a .glb
 """
 import csv
 import json
+import math
 import os
 import statistics
 import struct
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bdrate  # noqa: E402
 
 COLUMNS = [  # (csv key, markdown header)
     ("model", "model"),
@@ -95,41 +100,198 @@ def per_model(jsonl, outdir):
           "## Files and quality", "", table(rows, k2), "",
           "## Speed (same process; decode: median of %s runs)" % (rows[0].get("decode_runs") if rows else "?"), "",
           table(rows, k3), "", "![bytes vs quality](rd.png)", ""]
+    md += bd_report(rows, outdir)
     open(os.path.join(outdir, "results.md"), "w").write("\n".join(md))
     plot(rows, os.path.join(outdir, "rd.png"))
     print("\n".join(md))
+
+
+# --- BD-rate (issue 16) -------------------------------------------------------
+QUALITY = (("psnr", "surface"), ("psnr_render", "render"))
+
+
+def curve(r, names, key):
+    return [(p["bytes"], p[key]) for p in r.get("rd", []) if p.get("curve") in names and p.get(key) is not None]
+
+
+def pct(v):
+    return "-" if v is None else f"{100 * v:+.1f}%"
+
+
+def bd_rows(rows):
+    """One dict per model with BD figures against baseline 1 (Draco-12 + the source images through the
+    same encoder) and baseline 2 (the same at 1, 0.71 and 0.5 scale: the best explicit-UV file at each
+    quality), for the surface and the render PSNR."""
+    out = []
+    for r in rows:
+        if not r.get("rd") or not any(p.get("curve") == "b1" for p in r["rd"]):
+            continue
+        d = {"model": r["model"], "triangles": r.get("triangles")}
+        ours_pts = [p for p in r["rd"] if p["curve"] == "ours"]
+        d["ours_points"] = len(ours_pts)
+        d["ours_points_explicit"] = sum(1 for p in ours_pts if p.get("explicit_primitives"))
+        d["textured_primitives"] = r.get("primitives_textured")
+        for key, q in QUALITY:
+            ours = curve(r, ("ours",), key)
+            for base, names in (("b1", ("b1",)), ("b2", ("b1", "b2"))):
+                res = bdrate.bd_rate(curve(r, names, key), ours)
+                d[f"bd_rate_{base}_{q}"] = res["bd_rate"]
+                d[f"why_{base}_{q}"] = res["why"]
+                d[f"overlap_{base}_{q}"] = res["overlap"]
+                d[f"points_{base}_{q}"] = res["points_anchor"]
+                d[f"bd_psnr_{base}_{q}"] = bdrate.bd_psnr(curve(r, names, key), ours)
+                d[f"ceiling_{base}_{q}"] = res["ceiling_anchor"]
+                d[f"ceiling_ours_{q}"] = res["ceiling_test"]
+                d[f"points_ours_{q}"] = res["points_test"]
+        # Ours without the points where the encoder kept explicit UVs: what the warp itself offers.
+        implicit = [(p["bytes"], p["psnr"]) for p in ours_pts if not p.get("explicit_primitives")]
+        res = bdrate.bd_rate(curve(r, ("b1",), "psnr"), implicit)
+        d["bd_rate_b1_surface_implicit"], d["why_b1_surface_implicit"] = res["bd_rate"], res["why"]
+        d["ceiling_ours_surface_implicit"] = res["ceiling_test"]
+        out.append(d)
+    return out
+
+
+def bd_cell(d, base, q):
+    v = d[f"bd_rate_{base}_{q}"]
+    if v is None:
+        return f"n/a ({d[f'why_{base}_{q}']})" if d[f"why_{base}_{q}"] else "n/a"
+    return pct(v)
+
+
+def bd_report(rows, outdir):
+    ds = bd_rows(rows)
+    if not ds:
+        return []
+    f1 = lambda v: "-" if v is None else f"{v:.1f}"
+    ov = lambda o: "-" if not o else f"{o[0]:.1f}–{o[1]:.1f}"
+    db = lambda v: "-" if v is None else f"{v:+.2f} dB"
+    lines = ["## BD-rate of gltf-warp against explicit UVs (issue 16)", "",
+             "Negative: our file is smaller at equal quality. Baseline 1: Draco-12 explicit UVs + the source images "
+             "through the same image encoder at the same settings (JPEG ladder, PNG on top). Baseline 2: the same "
+             "with the images also downscaled 0.71× and 0.5× (the best explicit-UV file at each quality). "
+             "PCHIP fit of log bytes over PSNR on each curve's Pareto front (benchmarks/bdrate.py); "
+             "no figure where the curves overlap by less than 1 dB. See benchmarks/README.md.", "",
+             "| model | BD-rate vs B1, surface | BD-rate vs B1, render | BD-rate vs B2, surface | BD-rate vs B2, render "
+             "| BD-PSNR vs B1, surface | ceiling ours / B1 / B2, surface dB | ceiling ours / B1, render dB "
+             "| overlap vs B1, surface dB | front points ours / B1 / B2 | ours points keeping explicit UVs "
+             "| BD-rate vs B1, surface, implicit-UV points only (their ceiling dB) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for d in ds:
+        lines.append(
+            f"| {d['model']} | {bd_cell(d, 'b1', 'surface')} | {bd_cell(d, 'b1', 'render')} | "
+            f"{bd_cell(d, 'b2', 'surface')} | {bd_cell(d, 'b2', 'render')} | "
+            f"{db(d['bd_psnr_b1_surface'])} | "
+            f"{f1(d['ceiling_ours_surface'])} / {f1(d['ceiling_b1_surface'])} / {f1(d['ceiling_b2_surface'])} | "
+            f"{f1(d['ceiling_ours_render'])} / {f1(d['ceiling_b1_render'])} | {ov(d['overlap_b1_surface'])} | "
+            f"{d['points_ours_surface']} / {d['points_b1_surface']} / {d['points_b2_surface']} | "
+            f"{d['ours_points_explicit']} of {d['ours_points']} | {bd_cell(d, 'b1', 'surface_implicit')} "
+            f"({f1(d['ceiling_ours_surface_implicit'])}) |")
+    gm = {}
+    for base in ("b1", "b2"):
+        for _, q in QUALITY:
+            vals = [d[f"bd_rate_{base}_{q}"] for d in ds]
+            gm[f"{base}_{q}"] = (bdrate.geometric_mean_ratio(vals), sum(v is not None for v in vals))
+    g = lambda k: f"{pct(gm[k][0])} ({gm[k][1]} models)"
+    lines.append(f"| **geometric mean of (1 + BD-rate) − 1** | {g('b1_surface')} | {g('b1_render')} | "
+                 f"{g('b2_surface')} | {g('b2_render')} | | | | | | | |")
+    lost = [d["model"] for d in ds if (d["bd_rate_b1_surface"] or 0) > 0]
+    lines += ["", "Lost against baseline 1 (BD-rate > 0, surface): " + (", ".join(lost) if lost else "none") + ".", ""]
+    lines += diagnosis(rows)
+    open(os.path.join(outdir, "bdrate.md"), "w").write("\n".join(["# BD-rate", "",
+                                                                  "Generated by `scripts/bench`.", ""] + lines))
+    keys = ["model", "triangles", "textured_primitives", "ours_points", "ours_points_explicit"]
+    for base in ("b1", "b2"):
+        for _, q in QUALITY:
+            keys += [f"bd_rate_{base}_{q}", f"bd_psnr_{base}_{q}", f"ceiling_ours_{q}", f"ceiling_{base}_{q}",
+                     f"overlap_{base}_{q}", f"points_ours_{q}", f"points_{base}_{q}", f"why_{base}_{q}"]
+    keys += ["bd_rate_b1_surface_implicit", "ceiling_ours_surface_implicit", "why_b1_surface_implicit"]
+    keys = list(dict.fromkeys(keys))
+    with open(os.path.join(outdir, "bdrate.csv"), "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(keys)
+        for d in ds:
+            w.writerow(["" if d.get(k) is None else (f"{d[k][0]:.3f}-{d[k][1]:.3f}" if isinstance(d.get(k), tuple)
+                                                      else d[k]) for k in keys])
+        w.writerow(["geometric_mean"] + [""] * 4 + sum(
+            ([gm[f"{b}_{q}"][0], "", "", "", "", "", "", ""] for b in ("b1", "b2") for _, q in QUALITY), []) +
+                   ["", "", ""])
+    return lines
+
+
+def diagnosis(rows):
+    """Where the error sits, for ours at default, ours PNG (the top point) and baseline 1 at JPEG q85."""
+    lines = ["## Where the error sits", "",
+             "Worst 1%: share of the squared error the worst 1% carry (surface: samples grouped by face, worst faces "
+             "first; render: pixels). Per mip level: PSNR / share of the render's squared error / share of its "
+             "pixels at the level the decoded file samples (1024 px views; 256 px views in the last column).", "",
+             "| model | point | surface dB | worst 1% surface | render dB | worst 1% render | mip 0 | mip 1 | mip 2 | mip 3+ "
+             "| render 256 px dB (worst 1%) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        for p in r.get("rd", []):
+            if (p["curve"], p["setting"]) not in (("ours", "default"), ("ours", "png"), ("b1", "jpeg q85"), ("b1", "png")):
+                continue
+            mips = []
+            for m in p.get("render_by_mip", [{}] * 4):
+                mips.append("-" if not m.get("pixels") else
+                            f"{m['psnr']:.1f} / {100 * m['error_share']:.0f}% / "
+                            f"{100 * m['pixels'] / max(1, p.get('render_pixels', 1)):.0f}%")
+            f = lambda k: "-" if p.get(k) is None else f"{p[k]:.1f}"
+            s = lambda k: "-" if p.get(k) is None else f"{100 * p[k]:.0f}%"
+            lines.append(f"| {r['model']} | {p['curve']} {p['setting']} | {f('psnr')} | {s('surface_worst1_share')} | "
+                         f"{f('psnr_render')} | {s('render_worst1_share')} | " + " | ".join(mips) +
+                         f" | {f('psnr_render_small')} ({s('render_small_worst1_share')}) |")
+    return lines + [""]
 
 
 def plot(rows, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    rows = [r for r in rows if r.get("primitives_replaced") and r.get("rd")]
+    rows = [r for r in rows if r.get("rd") and any(p.get("curve") == "b1" for p in r["rd"])]
     if not rows:
         return
     n = len(rows)
     cols = min(3, n)
     nrows = (n + cols - 1) // cols
-    fig, axes = plt.subplots(nrows, cols, figsize=(5.2 * cols, 4.0 * nrows), squeeze=False)
+    fig, axes = plt.subplots(nrows, cols, figsize=(5.4 * cols, 4.2 * nrows), squeeze=False)
+    styles = (  # (curve, scale or None, marker, colour, label)
+        ("ours", None, "o", "tab:blue", "gltf-warp (default, fixed density, PNG, JPEG ladder)"),
+        ("b1", 1.0, "s", "tab:orange", "B1: Draco-12 explicit UVs + source images, same encoder"),
+        ("b2", 0.71, "^", "tab:green", "B2: same, images ×0.71"),
+        ("b2", 0.5, "v", "tab:olive", "B2: same, images ×0.5"),
+        ("source", None, "*", "tab:red", "Draco-12 + original images"))
     for ax, r in zip(axes.flat, rows):
-        for codec, marker, color, label in (("ours", "o", "tab:blue", "gltf-warp (implicit UVs, warped atlas)"),
-                                            ("draco12", "s", "tab:orange", "Draco-12 explicit UVs, source images")):
-            pts = [p for p in r["rd"] if p["codec"] == codec]
-            ax.scatter([p["bytes"] / 1024 for p in pts], [p["psnr"] for p in pts], marker=marker, color=color,
-                       label=label)
-            for p in pts:
-                ax.annotate(p["setting"], (p["bytes"] / 1024, p["psnr"]), fontsize=6, xytext=(3, 3),
-                            textcoords="offset points")
+        for cname, scale, marker, color, label in styles:
+            pts = [p for p in r["rd"] if p["curve"] == cname and (scale is None or p.get("image_scale", 1.0) == scale)]
+            if not pts:
+                continue
+            front = bdrate.pareto_front([(p["bytes"], p["psnr"]) for p in pts])
+            if len(front) > 1 and cname != "source":
+                ax.plot([b / 1024 for b, _ in front], [q for _, q in front], color=color, lw=1)
+            full = [p for p in pts if not p.get("explicit_primitives")]
+            hollow = [p for p in pts if p.get("explicit_primitives")]
+            ax.scatter([p["bytes"] / 1024 for p in full], [p["psnr"] for p in full], marker=marker, color=color,
+                       label=label, s=22)
+            if hollow:
+                ax.scatter([p["bytes"] / 1024 for p in hollow], [p["psnr"] for p in hollow], marker=marker,
+                           facecolors="none", edgecolors=color, s=40)
+            if cname == "ours":
+                for p in pts:
+                    ax.annotate(p["setting"] + (" (explicit UVs)" if p.get("explicit_primitives") else ""),
+                                (p["bytes"] / 1024, p["psnr"]), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.set_xscale("log")
         ax.set_title(r["model"], fontsize=10)
-        ax.set_xlabel("total file KiB")
-        ax.set_ylabel("texture-space PSNR dB")
-        ax.grid(alpha=0.3)
+        ax.set_xlabel("total file KiB (log)")
+        ax.set_ylabel("surface PSNR dB")
+        ax.grid(alpha=0.3, which="both")
     for ax in list(axes.flat)[n:]:
         ax.axis("off")
-    axes.flat[0].legend(fontsize=7, loc="lower right")
-    fig.suptitle("Total file bytes vs texture-space PSNR (higher and further left is better)", fontsize=11)
+    axes.flat[0].legend(fontsize=6, loc="lower right")
+    fig.suptitle("Rate-distortion: file bytes vs surface PSNR (hollow: the encoder kept some explicit UVs)",
+                 fontsize=11)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=100)
 
 
 def large(workdir, outdir):

@@ -85,9 +85,39 @@ Counts counts_of(const std::string& path) {
   return c;
 }
 
+// The primitives (mesh, primitive) of each corpus model that carry the
+// implicit map with the default options. A model that loses one of them to
+// explicit UVs fails the round trip: without this, the encoder's fallback
+// would let every size and quality check pass with the method switched off.
+// A model may gain primitives (the test prints what it got).
+const std::map<std::string, std::set<std::pair<int, int>>>& expected_implicit_primitives() {
+  static const std::map<std::string, std::set<std::pair<int, int>>> expected = {
+      {"CesiumMilkTruck", {{0, 0}, {1, 0}}},
+      {"Duck", {{0, 0}}},
+      {"Fox", {{0, 0}}},
+      {"MultiUVTest", {{0, 0}}},
+      {"SphereWithCircleTexture", {{0, 0}}},
+      {"TextureSettingsTest", {}},  // tiny quads with large images: explicit UVs are smaller
+      {"TextureTransformTest", {{6, 0}, {7, 0}, {8, 0}}},
+      {"TwoSidedPlane", {{0, 0}}},
+      {"VertexColorTest", {}},  // 1-texel text cannot keep the quality floor
+  };
+  return expected;
+}
+
+std::set<std::pair<int, int>> implicit_primitives(const tinygltf::Model& m) {
+  std::set<std::pair<int, int>> out;
+  for (size_t i = 0; i < m.meshes.size(); ++i)
+    for (size_t j = 0; j < m.meshes[i].primitives.size(); ++j)
+      if (m.meshes[i].primitives[j].extensions.count(ext::kName)) out.insert({int(i), int(j)});
+  return out;
+}
+
 // encoded_bytes, if given, receives the encoded file's size.
+// implicit_out, if given, receives the implicit-map primitives of the encoded file.
 void check_round_trip(const std::string& name, const std::string& src, const std::string& extra_args = "",
-                      uintmax_t* encoded_bytes = nullptr) {
+                      uintmax_t* encoded_bytes = nullptr,
+                      std::set<std::pair<int, int>>* implicit_out = nullptr) {
   const std::string dir = scratch_dir("roundtrip-" + name);
   const std::string enc = dir + "/enc.glb", dec = dir + "/dec.gltf";
   std::string out;
@@ -114,6 +144,7 @@ void check_round_trip(const std::string& name, const std::string& src, const std
   // The encoded file really uses our extension where textures sample TEXCOORD_0.
   tinygltf::Model em;
   ASSERT_TRUE(read_gltf(enc, em).ok);
+  if (implicit_out) *implicit_out = implicit_primitives(em);
   const ValidatorResult vs = validate(src), ve = validate(enc), vd = validate(dec);
   if (!vs.ran) {
     if (on_ci()) FAIL() << "gltf-validator is not installed (run scripts/install-deps)";
@@ -174,7 +205,13 @@ TEST(CorpusRoundTrip, EveryModelRoundTrips) {
   for (const auto& m : corpus_models()) {
     SCOPED_TRACE(m.name);
     uintmax_t ours = 0;
-    check_round_trip(m.name, m.path, "", &ours);
+    std::set<std::pair<int, int>> got;
+    check_round_trip(m.name, m.path, "", &ours, &got);
+    std::printf("%s: %zu primitives with the implicit map\n", m.name.c_str(), got.size());
+    ASSERT_TRUE(expected_implicit_primitives().count(m.name)) << "add " << m.name << " to the expectations";
+    for (const auto& [mesh, prim] : expected_implicit_primitives().at(m.name))
+      EXPECT_TRUE(got.count({mesh, prim}))
+          << m.name << " mesh " << mesh << " primitive " << prim << " no longer uses the implicit map";
     // The method exists to save bytes: the encoder keeps explicit UVs for any
     // atlas group that would cost more, so no file is larger than the same
     // model with explicit UVs (Draco-12) and its own images, beyond the

@@ -1,6 +1,7 @@
 #include "codec/decode/embedding_mesh.h"
 
 #include <cstring>
+#include <span>
 #include <vector>
 
 namespace gltfwarp {
@@ -23,12 +24,13 @@ uint32_t bits(float f) {
   std::memcpy(&u, &f, 4);
   return u;
 }
-}  // namespace
-
-TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint32_t>& triangles,
-                       std::vector<uint32_t>& point_to_vertex) {
+// Welds point_count points, whose coordinates `xyz(p, k)` gives, by exact
+// bit equality. Indices past the points map to kInvalidVertex, which every
+// consumer of the mesh rejects as bad_mesh.
+template <typename Xyz>
+TriMesh weld(size_t n, Xyz&& xyz, std::span<const uint32_t> triangles,
+             std::vector<uint32_t>& point_to_vertex) {
   TriMesh mesh;
-  const size_t n = positions.count();
   point_to_vertex.assign(n, 0);
   // Open addressing over the position bits (linear probing, load <= 1/2):
   // the same vertices in the same order as a map, without a node per point.
@@ -38,7 +40,7 @@ TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint3
   mesh.positions.reserve(3 * n);
   const KeyHash hash;
   for (size_t p = 0; p < n; ++p) {
-    const float x = positions.get(p, 0), y = positions.get(p, 1), z = positions.get(p, 2);
+    const float x = xyz(p, 0), y = xyz(p, 1), z = xyz(p, 2);
     const Key k{bits(x), bits(y), bits(z)};
     for (size_t i = hash(k) & (cap - 1);; i = (i + 1) & (cap - 1)) {
       const uint32_t v = slot[i];
@@ -57,8 +59,22 @@ TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint3
   }
   mesh.indices.resize(triangles.size());
   for (size_t i = 0; i < triangles.size(); ++i)
-    mesh.indices[i] = triangles[i] < n ? point_to_vertex[triangles[i]] : 0;
+    mesh.indices[i] = triangles[i] < n ? point_to_vertex[triangles[i]] : kInvalidVertex;
   return mesh;
+}
+
+}  // namespace
+
+TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint32_t>& triangles,
+                       std::vector<uint32_t>& point_to_vertex) {
+  return weld(
+      positions.count(), [&](size_t p, int k) { return positions.get(p, k); }, triangles, point_to_vertex);
+}
+
+TriMesh embedding_mesh(std::span<const float> xyz, std::span<const uint32_t> triangles,
+                       std::vector<uint32_t>& point_to_vertex) {
+  return weld(
+      xyz.size() / 3, [&](size_t p, int k) { return xyz[3 * p + size_t(k)]; }, triangles, point_to_vertex);
 }
 
 }  // namespace gltfwarp

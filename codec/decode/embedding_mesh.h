@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "codec/core/mesh.h"
@@ -13,9 +14,17 @@
 
 namespace gltfwarp {
 
+// A triangle index past the points becomes this vertex, so that the replay
+// and decode_uvs reject the mesh (bad_mesh) instead of reading vertex 0.
+inline constexpr uint32_t kInvalidVertex = UINT32_MAX;
+
 // `positions` must have 3 components. point_to_vertex receives, for each
 // point, its vertex in the returned mesh. Faces keep their order.
 TriMesh embedding_mesh(const VertexAttribute& positions, const std::vector<uint32_t>& triangles,
+                       std::vector<uint32_t>& point_to_vertex);
+
+// The same over plain floats, 3 per point.
+TriMesh embedding_mesh(std::span<const float> xyz, std::span<const uint32_t> triangles,
                        std::vector<uint32_t>& point_to_vertex);
 
 }  // namespace gltfwarp

@@ -10,6 +10,8 @@
 
 #include <tiny_gltf.h>
 
+#include "format/gltf/buffer_compaction.h"  // compact_buffers, which write_gltf runs
+
 namespace gltfwarp {
 
 struct GltfReadResult {
@@ -48,13 +50,5 @@ GltfReadResult read_gltf_memory(const uint8_t* data, size_t size, tinygltf::Mode
 // file appears atomically (temporary file + rename), so a failure leaves no
 // partial output. Returns an empty string or a one-line error.
 std::string write_gltf(tinygltf::Model& model, const std::string& path);
-
-// Moves every image's encoded bytes into a bufferView of buffer 0 and
-// rebuilds one buffer from the bufferViews that are still referenced.
-// Accessors in `replaced` (ones the codec superseded) and data-less accessors
-// are dropped when nothing references them any more; every reference the
-// glTF core and the known extensions make is renumbered. Other unreferenced
-// accessors stay: an extension we do not know might name them.
-void compact_buffers(tinygltf::Model& model, const std::vector<int>& replaced = {});
 
 }  // namespace gltfwarp

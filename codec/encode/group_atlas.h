@@ -1,0 +1,191 @@
+// One atlas group's atlas at one texel density, built without touching the
+// model (so the encoder can measure it, try again or give up), in stages a
+// reader can follow in order:
+//
+//   choose_density   texels per layout unit: the source's detail, per face (group_layout.cpp)
+//   pack_group       members over pages, patches packed on each page (group_layout.cpp)
+//   write_streams    the bitstreams, and the UVs exactly as decode_uvs rebuilds them (group_layout.cpp)
+//   per slot source and page (group_images.cpp):
+//     warp_page_image    the source texture warped into the page
+//     code_page_image    palette snapping and the file's bytes (PNG or JPEG)
+//     measure_page_image surface error of what a viewer will show, per patch
+//
+// build_group_atlas runs every stage for an atlas the file may hold;
+// measure_group_atlas runs what an adaptive round's trial needs (each
+// patch's texels and error) and skips the rest (group_atlas.cpp).
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <tuple>
+#include <vector>
+
+#include <tiny_gltf.h>
+
+#include "codec/encode/encoder.h"
+#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/texture/png_palette.h"
+#include "codec/encode/texture/texture_sampler.h"
+#include "codec/encode/texture/warp.h"
+#include "codec/encode/texture/warp_quality.h"
+#include "format/bitstream/uvmap.h"
+
+namespace gltfwarp {
+
+// Slot sources are warped once per distinct (image, sampler, transform,
+// colour space, normal map).
+using JobKey = std::tuple<int, int, std::array<double, 6>, int, bool>;
+
+struct WarpJob {
+  JobKey key;
+  int image = -1;
+  uint32_t page = 0;
+  std::vector<uint8_t> bytes;  // the encoded atlas image
+  std::string mime;
+};
+
+struct GroupAtlas {
+  AtlasReport report;
+  std::vector<UvMap> maps;                       // per member
+  std::vector<std::vector<uint8_t>> bitstreams;  // per member
+  std::vector<WarpJob> jobs;
+  SurfaceError error;  // colour slots: warped atlas against the source
+  // The same per source image (pages pooled). The quality floor holds for
+  // each image, so each material variant (usually its own images) keeps it,
+  // not only the group's images on average.
+  std::map<int, SurfaceError> image_error;
+  double floor_psnr() const {
+    double worst = error.values ? error.psnr() : 0;
+    for (const auto& [image, e] : image_error)
+      if (e.values) worst = std::min(worst, e.psnr());
+    return worst;
+  }
+  bool capped = false;                             // the atlas was shrunk to fit --max-atlas-size
+  uint32_t patch_count = 0;                        // over the members, numbered member by member
+  std::vector<std::vector<uint32_t>> group_patch;  // per member, per face: its patch in that numbering
+  std::vector<SurfaceError> patch_error;           // per patch, colour slots
+  std::vector<double> patch_texels;                // per patch: its triangles' area in atlas texels
+  std::vector<std::vector<size_t>> pages;          // members (indices into group.members) per page
+  std::vector<uint32_t> page_of_member;
+};
+
+// Decoded source images by image index: a group's atlas is built up to five
+// times (density retries, adaptive rounds), its sources decoded once.
+// With each, what every build derives from it alone: its palette and its
+// sampler for the quality check (the truck: 12 builds, 0.15 s each).
+struct SourceImage {
+  OIIO::ImageBuf pixels;
+  std::optional<std::vector<PaletteEntry>> palette;  // source_palette, once asked for
+  std::map<JobKey, TextureSampler> samplers;
+};
+using SourceImages = std::map<int, SourceImage>;
+
+// Per member, per patch: the scale steps added to the packer's choice
+// (adaptive density; empty: none).
+using StepBias = std::vector<std::vector<int32_t>>;
+
+// Every stage, for an atlas the file may hold: the tightest packing, every
+// slot (normal maps too) coded in its output format.
+std::string build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                              const EncodeOptions& options, SourceImages& sources, double density_factor,
+                              const StepBias& step_bias, GroupAtlas& out);
+
+// An adaptive round's trial: each patch's texels (patch_texels) and error
+// (patch_error), and whether the atlas was capped. One packing order, colour
+// slots only, and bytes only where coding loses detail (JPEG: its loss is
+// part of the error).
+std::string measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                                const EncodeOptions& options, SourceImages& sources, double density_factor,
+                                const StepBias& step_bias, GroupAtlas& out);
+
+// ---- The stages (group_layout.cpp) ----
+
+// Numbers the patches across the group's members: out.patch_count,
+// group_patch, and a zero patch_error per patch.
+void number_patches(const ImplicitPlan& plan, const AtlasGroup& group, GroupAtlas& out);
+
+// Texel density: keep the source's detail (largest image each member samples).
+struct GroupDensity {
+  double factor = 1;     // asked: times the measured density
+  double scale = 0;      // texels per layout unit the packer is asked for
+  double reference = 0;  // the measured (auto) scale; 0 with a fixed --texel-density
+  // Per member, per face: texels per layout unit the source gives it (the
+  // tau stretch counts), so the packer can give each patch its own scale step.
+  std::vector<std::vector<double>> face_density;
+};
+GroupDensity choose_density(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                            const EncodeOptions& options, double density_factor);
+
+// How hard the packer looks for the tightest page.
+enum class PackEffort {
+  tightest,   // several packing orders (an atlas the file may hold)
+  one_order,  // a measurement needs each patch's texels, not the tightest page
+};
+
+// Pages by estimate, then each page packed: out.pages, maps, page_of_member,
+// capped, and the report's page sizes, fill, overlap and density factor.
+std::string pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                       const GroupDensity& density, const StepBias& step_bias, PackEffort effort,
+                       GroupAtlas& out);
+
+// The bitstreams (out.bitstreams), the UVs exactly as the decoder will
+// rebuild them (each member's corner_uv in the plan) and out.patch_texels.
+std::string write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
+                          GroupAtlas& out);
+
+// ---- The image stages (group_images.cpp) ----
+
+// One TEXCOORD_0 slot source of the group's materials, warped once per page.
+struct SlotSource {
+  JobKey key;
+  int image = -1;
+  TextureSlot slot;
+};
+
+// The group's distinct slot sources, in material and slot order.
+std::vector<SlotSource> slot_sources(const tinygltf::Model& model, const AtlasGroup& group);
+
+// The decoded source image (decoded once, kept in `sources`).
+std::string decode_source(const tinygltf::Model& model, int image, SourceImages& sources,
+                          SourceImage*& decoded);
+
+// How one slot source is warped and written.
+struct SlotCoding {
+  WarpOptions warp;
+  int gl_wrap_s = 0, gl_wrap_t = 0;
+  std::string mime;  // of the atlas image
+  int jpeg_quality = 90;
+  bool lossy = false;  // JPEG colour: what a viewer shows is the decoded bytes
+};
+SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, const EncodeOptions& options);
+
+// Warps the slot source into page `page` of the built atlas (the members on
+// that page that sample its image). `uvs`: those members' source and atlas
+// UVs with their patches, for the measurement. False: no member on the page
+// samples the image (nothing warped).
+bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                     const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
+                     const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
+                     std::vector<SurfaceUvs>& uvs, std::string& error);
+
+// Snaps the warped page to the palette it will be written with (PNG kept
+// as PNG keeps its source's palette), so the quality check measures the
+// texels the file will hold. Returns that palette (empty: truecolour).
+std::span<const PaletteEntry> snap_page_image(const tinygltf::Model& model, const SlotSource& source,
+                                              const SlotCoding& coding, const EncodeOptions& options,
+                                              SourceImage& decoded, OIIO::ImageBuf& atlas);
+
+// The file's bytes of a snapped page image.
+std::string code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
+                            const SlotCoding& coding, std::vector<uint8_t>& bytes);
+
+// Surface error of `shown` (what a viewer samples: the page image, or its
+// coded bytes decoded back) against the source: into the atlas's error, the
+// image's and each patch's. Colour slots only: normal maps change
+// legitimately (new tangent frames).
+void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out);
+
+}  // namespace gltfwarp
