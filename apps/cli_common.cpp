@@ -1,5 +1,6 @@
 // What both halves of the CLI share (sources in commands.h).
 #include <unistd.h>
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 
@@ -25,7 +26,17 @@ void progress_done() {
   if (isatty(2)) std::fprintf(stderr, "\r%-16s\r", "");
 }
 
+namespace {
+std::vector<std::string>& arguments() {
+  static std::vector<std::string> args;  // set once, by run_verbs, before any verb runs
+  return args;
+}
+}  // namespace
+
+const std::vector<std::string>& invocation_arguments() { return arguments(); }
+
 int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** argv) {
+  arguments().assign(argv + std::min(argc, 1), argv + argc);
   app.require_subcommand(1);
   app.set_version_flag("--version", std::string("gltf-warp 0.1.0"));
   std::map<CLI::App*, Runner> runners;

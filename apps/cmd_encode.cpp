@@ -4,24 +4,62 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "apps/batch_encode.h"
+#include "apps/batch_options.h"
+#include "apps/child_process.h"
 #include "apps/commands.h"
+#include "apps/encode_summary.h"
 #include "apps/report_format.h"
 #include "codec/encode/encoder.h"
 #include "format/gltf/gltf_io.h"
 
 namespace gltfwarp::cli {
 
+namespace {
+
+enum class Summary { none, table, json };  // json: one line for the batch parent (encode_summary.h)
+
+// Encodes one file; the exit code.
+int encode_file(const std::string& in, const std::string& out, EncodeOptions opt, Summary summary) {
+  opt.progress = progress;
+  const auto t0 = std::chrono::steady_clock::now();
+  tinygltf::Model model;
+  GltfReadResult rr = read_gltf(in, model);
+  if (!rr.ok) return fail(rr.error);
+  EncodeReport report;
+  std::string err = encode_model(model, opt, report);
+  progress_done();
+  if (!err.empty()) return fail(in + ": " + err);
+  err = write_gltf(model, out);
+  if (!err.empty()) return fail(err);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  if (summary == Summary::table) print_encode_report(report, in, out, secs);
+  if (summary == Summary::json) std::printf("%s\n", encode_summary(report).dump().c_str());
+  return 0;
+}
+
+}  // namespace
+
 Runner add_encode(CLI::App& app) {
   struct Args {
-    std::string in, out, geometry = "draco", partition = "compact", layout = "unfold", texel_density = "auto",
-                         image_format = "keep", texel_budget = "count";
+    std::vector<std::string> inputs;
+    std::string out, geometry = "draco", partition = "compact", layout = "unfold", texel_density = "auto",
+                     image_format = "keep", texel_budget = "count";
     EncodeOptions opt;
+    BatchOptions batch;
+    std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
     bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false,
          cross_source_seams = false, keep_hidden_seams = false;
   };
   auto a = std::make_shared<Args>();
-  app.add_option("input", a->in, "Source .gltf or .glb")->required()->check(CLI::ExistingFile);
-  app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container")->required();
+  app.add_option("inputs", a->inputs,
+                 "Source .gltf or .glb; several files or directories (searched recursively) with --out-dir")
+      ->required()
+      ->check(CLI::ExistingPath);
+  app.add_option("-o,--output", a->out, "Output file; .glb or .gltf decides the container");
+  add_batch_options(app, a->batch, a->shard);
+  app.add_option("--batch-worker-input", a->worker_in)->group("");
+  app.add_option("--batch-worker-output", a->worker_out)->group("");
   app.add_option("--max-distortion", a->opt.tau, "Distortion bound tau of every triangle (>= 1)")
       ->default_val(1.3)
       ->check(CLI::Range(1.0001, 100.0));
@@ -145,20 +183,21 @@ Runner add_encode(CLI::App& app) {
       else
         opt.texel_density = value;
     }
-    opt.progress = progress;
-    const auto t0 = std::chrono::steady_clock::now();
-    tinygltf::Model model;
-    GltfReadResult rr = read_gltf(a->in, model);
-    if (!rr.ok) return fail(rr.error);
-    EncodeReport report;
-    std::string err = encode_model(model, opt, report);
-    progress_done();
-    if (!err.empty()) return fail(a->in + ": " + err);
-    err = write_gltf(model, a->out);
-    if (!err.empty()) return fail(err);
-    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    if (!a->quiet) print_encode_report(report, a->in, a->out, secs);
-    return 0;
+    if (!a->worker_in.empty()) return encode_file(a->worker_in, a->worker_out, opt, Summary::json);
+    if (!a->batch.out_dir.empty()) {
+      if (!a->out.empty()) return fail("-o names one output; --out-dir mirrors the inputs' paths", 2);
+      if (!a->shard.empty())
+        if (std::string e = parse_shard(a->shard, a->batch.shard); !e.empty()) return fail(e, 2);
+      a->batch.inputs = a->inputs;
+      a->batch.quiet = a->quiet;
+      std::vector<std::string> worker = {self_executable()};
+      for (const auto& arg : invocation_arguments()) worker.push_back(arg);
+      return run_batch_encode(a->batch, worker);
+    }
+    if (a->inputs.size() != 1 || !std::filesystem::is_regular_file(a->inputs[0]))
+      return fail("several inputs, or a directory, need --out-dir DIR", 2);
+    if (a->out.empty()) return fail("give the output file: -o OUTPUT (or --out-dir DIR)", 2);
+    return encode_file(a->inputs[0], a->out, opt, a->quiet ? Summary::none : Summary::table);
   };
 }
 

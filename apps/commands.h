@@ -38,6 +38,9 @@ const std::vector<Verb>& all_verbs();
 // version and parse errors as CLI11 reports them (parse errors exit 2).
 int run_verbs(CLI::App& app, const std::vector<Verb>& verbs, int argc, char** argv);
 
+// This run's arguments after the executable's name, as run_verbs received them.
+const std::vector<std::string>& invocation_arguments();
+
 // One line on stderr, "gltf-warp: <message>"; returns the exit code to use.
 int fail(const std::string& message, int code = 1);
 

@@ -94,6 +94,7 @@ const std::map<std::string, std::set<std::pair<int, int>>>& expected_implicit_pr
   static const std::map<std::string, std::set<std::pair<int, int>>> expected = {
       {"CesiumMilkTruck", {{0, 0}, {1, 0}}},
       {"Duck", {{0, 0}}},
+      {"Duck-glb", {{0, 0}}},
       {"Fox", {{0, 0}}},
       {"MultiUVTest", {{0, 0}}},
       {"SphereWithCircleTexture", {{0, 0}}},

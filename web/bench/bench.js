@@ -1,13 +1,15 @@
-// Page side of the decode benchmark: for the first implicit primitive of
-// ?model=, the time of the plain Draco decode (DRACOLoader, in its workers)
-// against Draco decode + the plugin's rebuild (weld, stream decode, layout
-// replay, split, attribute remap; in its worker), in the same page,
-// alternating, after a warm-up. Writes window.benchResult.
+// Page side of the decode benchmark: for every implicit primitive of ?model=,
+// all in parallel, the time of the plain Draco decode (DRACOLoader, in its
+// workers) against Draco decode + the plugin's rebuild (weld, stream decode,
+// layout replay, split, attribute remap; in its workers), and the rebuild
+// alone, in the same page, alternating, after a warm-up. Writes
+// window.benchResult.
 import { DRACOLoader } from 'three/addons/loaders/DRACOLoader.js';
 import { GLTFWarpLoaderPlugin } from '../src/GLTFWarpLoaderPlugin.js';
 
 const params = new URLSearchParams(location.search);
 const runs = Number(params.get('runs') ?? 5);
+const workerLimit = params.has('workers') ? Number(params.get('workers')) : undefined; // the plugin's default otherwise
 
 function parseGlb(buffer) {
   const view = new DataView(buffer);
@@ -46,11 +48,15 @@ async function main() {
     const decode = () => new Promise((resolve, reject) =>
       loader.decodeDracoFile(dracoBytes.slice(0), resolve, attributeIds, attributeTypes, undefined, reject));
     // The plugin with the one parser method its rebuild uses.
-    const plugin = new GLTFWarpLoaderPlugin({ loadGeometries: () => [], getDependency: async () => stream.slice(0) });
+    const plugin = new GLTFWarpLoaderPlugin({ loadGeometries: () => [], getDependency: async () => stream.slice(0) }, { workerLimit });
     return { ours, decode, plugin };
   });
 
-  const plain = [], full = [];
+  // Three timings per run, in the same page: Draco alone, Draco + rebuild
+  // (the loader's path: each primitive's rebuild starts when its Draco decode
+  // ends), and the rebuild alone on geometries Draco decoded beforehand.
+  const plain = [], full = [], alone = [];
+  const stages = jobs.map(() => ({})); // per primitive: stage -> [ms per run]
   let info = null;
   for (let i = 0; i <= runs; ++i) {
     let t = performance.now();
@@ -59,19 +65,31 @@ async function main() {
     t = performance.now();
     const rebuilt = await Promise.all(jobs.map(async (j) => j.plugin.rebuildOnce(await j.decode(), j.ours)));
     const tFull = performance.now() - t;
+    const decoded = await Promise.all(jobs.map((j) => j.decode()));
+    t = performance.now();
+    await Promise.all(jobs.map((j, k) => j.plugin.rebuildOnce(decoded[k], j.ours)));
+    const tAlone = performance.now() - t;
     if (i === 0) continue; // warm-up: worker start, wasm compile
     plain.push(tPlain);
     full.push(tFull);
+    alone.push(tAlone);
+    rebuilt.forEach((g, k) => {
+      for (const [name, ms] of Object.entries(g.userData.gltfWarp.timings)) (stages[k][name] ??= []).push(ms);
+    });
     const sum = (f) => rebuilt.reduce((s, g) => s + f(g), 0);
     info = {
       primitives: rebuilt.length, faces: sum((g) => g.index.count / 3), vertices: sum((g) => g.getAttribute('position').count),
-      patchCount: sum((g) => g.userData.gltfWarp.patchCount), timings: rebuilt[0].userData.gltfWarp.timings,
+      patchCount: sum((g) => g.userData.gltfWarp.patchCount), facesOf: rebuilt.map((g) => g.index.count / 3),
     };
   }
   const result = {
     runs, primitives: info.primitives, faces: info.faces, vertices: info.vertices, patches: info.patchCount,
-    dracoMs: median(plain), dracoPlusUvMs: median(full),
-    ratio: median(full) / median(plain), workerTimings: info.timings,
+    dracoMs: median(plain), dracoPlusUvMs: median(full), rebuildAloneMs: median(alone),
+    ratio: median(full) / median(plain), workers: jobs[0]?.plugin.pool.workerLimit,
+    hardwareConcurrency: navigator.hardwareConcurrency,
+    perPrimitive: stages.map((st, k) => ({
+      faces: info.facesOf[k], ...Object.fromEntries(Object.entries(st).map(([name, v]) => [name, median(v)])),
+    })),
   };
   document.getElementById('out').textContent = JSON.stringify(result, null, 2);
   window.benchResult = result;

@@ -29,12 +29,16 @@ export const EXTENSION_NAME = 'GLTFWARP_implicit_texcoords';
 let sharedPool = null;
 
 export class GLTFWarpLoaderPlugin {
-  // options.workerLimit: workers of the shared pool (default 4; 0 decodes on
-  // the main thread). options.pool: a WorkerPool of your own.
+  // options.workerLimit: workers of the shared pool (default: the hardware
+  // threads but one, 1 to 4: DRACOLoader's workers and the page need cores
+  // too, more workers than cores only slice the same cores finer, and each
+  // worker compiles the decoder afresh: on 2 threads, 1 worker measured a
+  // lower Draco + rebuild time than 2 or 4; 0 decodes on the main thread).
+  // options.pool: a WorkerPool of your own.
   constructor(parser, options = {}) {
     this.name = EXTENSION_NAME;
     this.parser = parser;
-    this.pool = options.pool ?? (sharedPool ??= new WorkerPool(options.workerLimit ?? 4));
+    this.pool = options.pool ?? (sharedPool ??= new WorkerPool(options.workerLimit ?? defaultWorkerLimit()));
     this.rebuilt = new WeakMap(); // source geometry -> Promise of the rebuilt one
     const loadGeometries = parser.loadGeometries.bind(parser);
     parser.loadGeometries = (primitives) =>
@@ -57,24 +61,43 @@ export class GLTFWarpLoaderPlugin {
     if (!position || position.itemSize !== 3) throw new Error(`${EXTENSION_NAME}: primitive has no usable POSITION`);
     const pointCount = position.count;
     const positions = readFloats(position);
-    for (let i = 0; i < positions.length; ++i)
-      if (!Number.isFinite(positions[i])) throw new Error(`${EXTENSION_NAME}: POSITION holds a NaN or infinite value`);
     const indices = geometry.index ? new Uint32Array(geometry.index.array) : sequence(pointCount); // a copy: it is transferred
     const normal = geometry.getAttribute('normal');
     const wantTangents = ext.tangents === true && normal !== undefined && normal.itemSize === 3;
+    // The worker also copies each point's attribute values to its new
+    // vertices (position, normal and every other plain attribute), so the
+    // main thread only wraps the arrays it gets back.
+    const uvName = (ext.texCoord ?? 0) === 0 ? 'uv' : `uv${ext.texCoord}`;
+    const gathered = Object.entries(geometry.attributes).filter(([name, attr]) =>
+      name !== uvName && name !== 'position' && !attr.isInterleavedBufferAttribute &&
+      !(name === 'tangent' && wantTangents) && attr.array.length === attr.count * attr.itemSize);
     const job = {
       positions, indices, stream: new Uint8Array(streamView.slice(0)),
       normals: wantTangents ? readFloats(normal) : null, tangents: wantTangents,
+      attributes: gathered.map(([, attr]) => ({ array: attr.array.slice(), itemSize: attr.itemSize })),
     };
     const streamBytes = job.stream.byteLength;
+    const sent = performance.now();
     const r = await this.pool.run(job);
+    const received = performance.now();
 
-    const uvName = (ext.texCoord ?? 0) === 0 ? 'uv' : `uv${ext.texCoord}`;
     const out = new BufferGeometry();
     out.name = geometry.name;
+    const fromWorker = new Map(gathered.map(([name], i) => [name, r.attributes[i]]));
     for (const [name, attr] of Object.entries(geometry.attributes)) {
       if (name === uvName || (name === 'tangent' && r.tangent)) continue;
-      out.setAttribute(name, remap(attr, r.origin));
+      const array = name === 'position' ? r.positions : fromWorker.get(name);
+      if (array === undefined) {
+        out.setAttribute(name, remap(attr, r.origin));
+        continue;
+      }
+      if (name === 'position' && !(attr.array instanceof Float32Array)) {
+        out.setAttribute(name, remap(attr, r.origin)); // a quantized POSITION keeps its type
+        continue;
+      }
+      const copy = new BufferAttribute(array, attr.itemSize, attr.normalized);
+      copy.name = attr.name;
+      out.setAttribute(name, copy);
     }
     for (const [name, list] of Object.entries(geometry.morphAttributes))
       out.morphAttributes[name] = list.map((attr) => remap(attr, r.origin));
@@ -89,12 +112,20 @@ export class GLTFWarpLoaderPlugin {
       ...geometry.userData,
       gltfWarp: {
         patchCount: r.patchCount, atlasWidth: r.atlasWidth, atlasHeight: r.atlasHeight, streamBytes,
-        patchOfVertex: r.patchOfVertex, decodeMs: performance.now() - start, timings: r.timings,
+        patchOfVertex: r.patchOfVertex, decodeMs: performance.now() - start,
+        // Main thread before and after the worker, the worker's round trip
+        // (queue + transfer + decode), and the worker's own stages.
+        timings: { prepare: sent - start, worker: received - sent, assemble: performance.now() - received, ...r.timings },
       },
     };
     geometry.dispose();
     return out;
   }
+}
+
+function defaultWorkerLimit() {
+  const threads = globalThis.navigator?.hardwareConcurrency ?? 4;
+  return Math.max(1, Math.min(4, threads - 1));
 }
 
 // Positions / normals as float32, whatever the attribute stores: normalized

@@ -13,8 +13,10 @@ import { patchScale, rotationCosSin } from './transform_tables.js';
 
 // mesh: { positions: Float32Array (3 per vertex), indices: Uint32Array (3 per face) },
 // the welded mesh of spec section 3.3. bytes: Uint8Array, the stream.
-// Returns { uv: Float32Array (2 per corner), header, patchOfFace, placements }.
+// Returns { uv: Float32Array (2 per corner), header, patchOfFace, placements,
+// timings (ms per stage) }.
 export function decodeUvs(mesh, bytes) {
+  const t0 = performance.now();
   const { positions, indices } = mesh;
   if (indices.length % 3 !== 0 || positions.length % 3 !== 0)
     throw new GltfWarpError('bad_mesh', 'mesh buffers are not whole triples');
@@ -25,9 +27,11 @@ export function decodeUvs(mesh, bytes) {
 
   const vf = vertexFaces(indices, vertexCount);
   const lower = lowerNeighbours(indices, vertexCount, vf);
+  const t1 = performance.now();
   const patchOfFace = decodePartition(header.partition, indices, faceCount, header.patchCount, vf, lower);
   const byPatch = facesByPatch(patchOfFace, header.patchCount);
   const placements = decodePlacements(header, byPatch);
+  const t2 = performance.now();
 
   // Section 6.6: per patch (c, s) scaled, then per corner the texel position
   // divided by the atlas size, rounded once to float.
@@ -41,18 +45,28 @@ export function decodeUvs(mesh, bytes) {
   }
   const W = header.atlasWidth, H = header.atlasHeight;
   const uv = new Float32Array(2 * indices.length);
+  // Every corner of vertex v in patch p gets the same pair, so it is computed
+  // once per (vertex, patch) and copied: doneIn[v] === p + 1 says uvOf[v] is
+  // the pair of v in patch p (the same expression, so the same bits).
+  const doneIn = new Uint32Array(vertexCount), uvOf = new Float32Array(2 * vertexCount);
   const emit = (p, f, xy) => {
-    const a = sc[p], b = ss[p], x0 = placements.x[p], y0 = placements.y[p];
     for (let k = 0; k < 3; ++k) {
-      const px = xy[2 * k], py = xy[2 * k + 1];
-      const tx = (a * px - b * py) + x0;
-      const ty = (b * px + a * py) + y0;
-      uv[6 * f + 2 * k] = tx / W; // Float32Array store: round to nearest even
-      uv[6 * f + 2 * k + 1] = ty / H;
+      const v = indices[3 * f + k], o = 6 * f + 2 * k;
+      if (doneIn[v] !== p + 1) {
+        doneIn[v] = p + 1;
+        const a = sc[p], b = ss[p], px = xy[2 * k], py = xy[2 * k + 1];
+        const tx = (a * px - b * py) + placements.x[p];
+        const ty = (b * px + a * py) + placements.y[p];
+        uvOf[2 * v] = tx / W; // Float32Array store: round to nearest even
+        uvOf[2 * v + 1] = ty / H;
+      }
+      uv[o] = uvOf[2 * v];
+      uv[o + 1] = uvOf[2 * v + 1];
     }
   };
-  // 1.2: solve patches (section 6.7) are skipped by the replay and laid out apart.
+  // 1.2: solve patches (section 6.7) are laid out by layout_solve.js, in patch order.
   const solveAt = header.solve ? solvePatchAt(positions, indices, byPatch, placements.method, header.solve, emit) : null;
-  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, emit, solveAt);
-  return { uv, header, patchOfFace, placements };
+  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, emit, vf, solveAt); // vf: the layout may reorder it
+  const t3 = performance.now();
+  return { uv, header, patchOfFace, placements, timings: { adjacency: t1 - t0, partition: t2 - t1, layout: t3 - t2 } };
 }

@@ -12,9 +12,11 @@
 // and Math.sqrt (correctly rounded) are used, each expression in the order the
 // spec writes it.
 import { GltfWarpError } from './errors.js';
+import { vertexFaces } from './mesh_adjacency.js';
 
 const RELAX_STEPS = 2;
 const NEXT = [1, 2, 0], PREV = [2, 0, 1]; // (k + 1) % 3, (k + 2) % 3
+const NO_VERTEX = 0xffffffff;
 
 function length2(pos, u, w) {
   const dx = pos[3 * u] - pos[3 * w];
@@ -136,24 +138,17 @@ function placeSeed(pos, v0, v1, v2, sp) {
 // Lays out every patch. pos: vertex positions (Float32Array, 3 per vertex),
 // indices: Uint32Array (all < vertexCount), patchOfFace / byPatch / seeds from
 // the stream. emit(patch, face, xy) gets each face once its patch is placed,
-// xy a Float64Array of 6 (reused between calls).
-export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, solveAt = null) {
-  const nf = patchOfFace.length, nc = 3 * nf;
-  // Incidences per vertex, sorted by (patch, face): filled patch by patch.
-  const offsets = new Uint32Array(vertexCount + 1);
-  for (let c = 0; c < nc; ++c) ++offsets[indices[c] + 1];
-  for (let v = 0; v < vertexCount; ++v) offsets[v + 1] += offsets[v];
-  const entPatch = new Uint32Array(nc), entFace = new Uint32Array(nc);
+// xy a Float64Array of 6 (reused between calls). vf: optional, the
+// vertexFaces(indices, vertexCount) the caller already has; its face lists
+// are reordered here (by patch), so the caller must be done with them.
+export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, vf = null, solveAt = null) {
+  const nf = patchOfFace.length;
+  // Incidences per vertex, sorted by (patch, face): each vertex's face list
+  // (ascending) stably sorted by patch. Almost every list is one patch
+  // already, so this is mostly a check.
+  const { offsets, faces: entFace } = vf ?? vertexFaces(indices, vertexCount);
+  for (let v = 0; v < vertexCount; ++v) sortRunByPatch(entFace, offsets[v], offsets[v + 1], patchOfFace);
   const cursor = offsets.slice(0, vertexCount);
-  for (let i = 0; i < nf; ++i) {
-    const f = byPatch.faces[i], p = patchOfFace[f];
-    for (let k = 0; k < 3; ++k) {
-      const e = cursor[indices[3 * f + k]]++;
-      entPatch[e] = p;
-      entFace[e] = f;
-    }
-  }
-  cursor.set(offsets.subarray(0, vertexCount));
   // v's run in patch p is [cursor[v], runEnd(v, p)): the cursor moves past runs
   // of earlier patches (patches are replayed in ascending order, so each entry
   // is skipped once overall). Inlined by hand below, as in the C++ run_of.
@@ -161,62 +156,66 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
   // placed[v] === p + 1: v is placed in patch p; listed[v] === stamp: already a candidate this round.
   const placed = new Uint32Array(vertexCount), listed = new Uint32Array(vertexCount);
   const xyOf = new Float64Array(2 * vertexCount);
-  let fresh = new Uint32Array(64), freshN = 0;
   let list = new Uint32Array(64), listN = 0;
   const unf = new Unfoldings();
   const sp = new Float64Array(6), q2 = new Float64Array(2), xy = new Float64Array(6);
   let stamp = 0;
+  // Candidates of a round: the unplaced vertex of every face of the patch with
+  // exactly two placed corners (a face naming q twice never makes q a
+  // candidate: it then has at most one placed corner while q is unplaced).
+  // placedCorners[f] counts f's placed corners (a face is in one patch only,
+  // so it is never reset); a face reaching two is noted in `pending` while its
+  // vertex is placed, and looked at once the round is over (a face whose last
+  // corner was placed in the same round yields nothing). The order found does
+  // not matter: the list is sorted.
+  const placedCorners = new Uint8Array(nf);
+  const pending = new Uint32Array(nf); // each face reaches two once
+  let pendingN = 0;
 
   for (let p = 0; p < patchCount; ++p) {
     if (solveAt && solveAt(p)) continue; // 1.2: a solve patch (layout_solve.js), laid out in patch order
     const mark = p + 1;
     const seed = seeds[p];
     placeSeed(pos, indices[3 * seed], indices[3 * seed + 1], indices[3 * seed + 2], sp);
-    freshN = 0;
+    pendingN = 0;
     for (let k = 0; k < 3; ++k) {
       const v = indices[3 * seed + k];
       if (placed[v] === mark) continue; // a repeated vertex keeps its first position
       placed[v] = mark;
       xyOf[2 * v] = sp[2 * k];
       xyOf[2 * v + 1] = sp[2 * k + 1];
-      fresh[freshN++] = v;
+      const stop = offsets[v + 1];
+      let i = cursor[v];
+      while (i < stop && patchOfFace[entFace[i]] < p) ++i;
+      cursor[v] = i;
+      for (; i < stop && patchOfFace[entFace[i]] === p; ++i)
+        if (++placedCorners[entFace[i]] === 2) pending[pendingN++] = entFace[i];
     }
     for (;;) {
-      // Candidates: every vertex that became eligible did so through a face
-      // holding a vertex placed in the previous round.
       ++stamp;
       listN = 0;
-      for (let j = 0; j < freshN; ++j) {
-        const v = fresh[j], stop = offsets[v + 1];
-        let i = cursor[v];
-        while (i < stop && entPatch[i] < p) ++i;
-        cursor[v] = i;
-        for (; i < stop && entPatch[i] === p; ++i) {
-          const t = 3 * entFace[i];
-          for (let k = 0; k < 3; ++k) {
-            const q = indices[t + k], a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
-            if (placed[q] === mark || listed[q] === stamp || q === a || q === b) continue;
-            if (placed[a] === mark && placed[b] === mark) {
-              listed[q] = stamp;
-              if (listN === list.length) list = grow(list);
-              list[listN++] = q;
-            }
-          }
-        }
+      for (let j = 0; j < pendingN; ++j) {
+        const t = 3 * pending[j];
+        const x = indices[t], y = indices[t + 1], z = indices[t + 2];
+        const q = placed[x] !== mark ? x : placed[y] !== mark ? y : placed[z] !== mark ? z : NO_VERTEX;
+        if (q === NO_VERTEX || listed[q] === stamp) continue;
+        listed[q] = stamp;
+        if (listN === list.length) list = grow(list);
+        list[listN++] = q;
       }
+      pendingN = 0;
       if (listN === 0) break;
       list.subarray(0, listN).sort();
-      if (fresh.length < listN) fresh = new Uint32Array(list.length);
-      freshN = 0;
       for (let j = 0; j < listN; ++j) {
         const q = list[j];
         unf.n = 0;
         const stop = offsets[q + 1];
         let i = cursor[q];
-        while (i < stop && entPatch[i] < p) ++i;
+        while (i < stop && patchOfFace[entFace[i]] < p) ++i;
         cursor[q] = i;
-        for (; i < stop && entPatch[i] === p; ++i) {
-          const t = 3 * entFace[i];
+        for (; i < stop && patchOfFace[entFace[i]] === p; ++i) {
+          const f = entFace[i], t = 3 * f;
+          if (++placedCorners[f] === 2) pending[pendingN++] = f;
           const k = indices[t] === q ? 0 : indices[t + 1] === q ? 1 : 2;
           const a = indices[t + NEXT[k]], b = indices[t + PREV[k]];
           if (a === q || b === q) continue; // q not exactly once in this face
@@ -228,7 +227,6 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
         xyOf[2 * q] = q2[0];
         xyOf[2 * q + 1] = q2[1];
         placed[q] = mark;
-        fresh[freshN++] = q;
       }
     }
     for (let i = byPatch.start[p]; i < byPatch.start[p + 1]; ++i) {
@@ -241,6 +239,27 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
       }
       emit(p, f, xy);
     }
+  }
+}
+
+// Stable sort of faces[lo, hi) by patch: insertion for the short lists of an
+// ordinary vertex, a comparison sort (patch, then face) for a long fan.
+// Exported for its test.
+export function sortRunByPatch(faces, lo, hi, patchOfFace) {
+  let sorted = true;
+  for (let i = lo + 1; i < hi && sorted; ++i) sorted = patchOfFace[faces[i - 1]] <= patchOfFace[faces[i]];
+  if (sorted) return;
+  if (hi - lo > 32) {
+    const run = Array.from(faces.subarray(lo, hi));
+    run.sort((a, b) => patchOfFace[a] - patchOfFace[b] || a - b);
+    faces.set(run, lo);
+    return;
+  }
+  for (let i = lo + 1; i < hi; ++i) {
+    const f = faces[i], p = patchOfFace[f];
+    let j = i;
+    for (; j > lo && patchOfFace[faces[j - 1]] > p; --j) faces[j] = faces[j - 1];
+    faces[j] = f;
   }
 }
 

@@ -12,7 +12,8 @@ export function vertexFaces(indices, vertexCount) {
   for (let v = 0; v < vertexCount; ++v) offsets[v + 1] += offsets[v];
   const faces = new Uint32Array(nc);
   const fill = offsets.slice(0, vertexCount);
-  for (let c = 0; c < nc; ++c) faces[fill[indices[c]]++] = (c / 3) | 0;
+  for (let f = 0, c = 0; c + 2 < nc; ++f) // a face counter, not c / 3: no division per corner
+    for (let k = 0; k < 3; ++k) faces[fill[indices[c++]]++] = f;
   return { offsets, faces };
 }
 

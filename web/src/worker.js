@@ -8,6 +8,8 @@ self.onmessage = (event) => {
     const r = decodePrimitive(job);
     const transfer = [r.index.buffer, r.origin.buffer, r.uv.buffer, r.patchOfVertex.buffer];
     if (r.tangent) transfer.push(r.tangent.buffer);
+    if (r.positions) transfer.push(r.positions.buffer);
+    for (const a of r.attributes ?? []) transfer.push(a.buffer);
     self.postMessage({ id, result: r }, transfer);
   } catch (error) {
     self.postMessage({ id, error: { code: error.code ?? 'internal', message: String(error.message ?? error) } });

@@ -19,6 +19,7 @@ export class WorkerPool {
     const id = this.nextId++;
     const transfer = [job.positions.buffer, job.indices.buffer, job.stream.buffer];
     if (job.normals) transfer.push(job.normals.buffer);
+    for (const a of job.attributes ?? []) transfer.push(a.array.buffer);
     return new Promise((resolve, reject) => {
       slot.pending.set(id, { resolve, reject });
       slot.worker.postMessage({ id, job }, transfer);
