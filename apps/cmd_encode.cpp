@@ -43,8 +43,8 @@ int encode_file(const std::string& in, const std::string& out, EncodeOptions opt
 Runner add_encode(CLI::App& app) {
   struct Args {
     std::vector<std::string> inputs;
-    std::string out, geometry = "draco", partition = "compact", texel_density = "auto", image_format = "keep",
-                     texel_budget = "count";
+    std::string out, geometry = "draco", partition = "compact", layout = "unfold", texel_density = "auto",
+                     image_format = "keep", texel_budget = "count";
     EncodeOptions opt;
     BatchOptions batch;
     std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
@@ -66,6 +66,11 @@ Runner add_encode(CLI::App& app) {
   app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
       ->default_val("compact")
       ->check(CLI::IsMember({"compact", "greedy"}));
+  app.add_option("--layout", a->layout,
+                 "unfold (every patch replays the unfolding: format 1.0/1.1), or mixed (compact: also merge "
+                 "patches whose union the solve method lays out within tau: format 1.2)")
+      ->default_val("unfold")
+      ->check(CLI::IsMember({"unfold", "mixed"}));
   app.add_flag(
       "--report-greedy", a->opt.report_greedy,
       "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
@@ -156,6 +161,7 @@ Runner add_encode(CLI::App& app) {
     EncodeOptions opt = a->opt;
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
+    opt.mixed_layout = a->layout == "mixed";
     opt.keep_source_charts = !a->cross_source_seams;
     opt.cross_hidden_seams = !a->keep_hidden_seams;
     opt.implicit_uvs = !a->explicit_uvs;

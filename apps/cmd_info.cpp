@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
@@ -108,7 +109,7 @@ Runner add_info(CLI::App& app) {
           st = decode_uvs(mesh, bytes, uv, &map);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
           std::vector<double> xy;
-          layout_patches(mesh, map.patch_of_face, map.patch_count, xy, map.seeds);
+          layout_patches(mesh, map.patch_of_face, map.patch_count, xy, map.seeds, map.methods, map.solve);
           const EmbedReport er = measure_embedding(mesh, map.patch_of_face, map.patch_count, xy, si.tau);
           p["max_distortion"] = er.max_distortion;
           p["mean_distortion"] = er.mean_distortion;
@@ -118,6 +119,9 @@ Runner add_info(CLI::App& app) {
           p["seam_length"] = er.seam_length;
           p["rect_fill"] = er.fill;
           p["holes"] = er.holes;
+          p["version"] = std::to_string(si.version_major) + "." + std::to_string(si.version_minor);
+          p["solve_patches"] =
+              std::count(map.methods.begin(), map.methods.end(), uint8_t(LayoutMethod::solve));
         }
         out["primitives"].push_back(p);
       }

@@ -54,7 +54,7 @@ void BM_Replay(benchmark::State& state) {
   const Embedding e = embed(m, opt);
   std::vector<double> xy;
   for (auto _ : state) {
-    const LayoutStatus s = layout_patches(m, e.patch_of_face, e.patch_count, xy, e.seeds);
+    const LayoutStatus s = layout_patches(m, e.patch_of_face, e.patch_count, xy, e.seeds, e.methods, e.solve);
     benchmark::DoNotOptimize(s);
     benchmark::DoNotOptimize(xy.data());
   }

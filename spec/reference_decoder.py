@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.1
-(and so 1.0), written from spec/README.md alone (not from the C++). It decodes
-the golden streams of tests/golden/uvmap_v1_0.h (1.0) and uvmap_v1_1.h (1.1,
-per-patch seeds) on the golden mesh and checks the FNV-1a hash of the decoded
+"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.2
+(and so 1.1 and 1.0), written from spec/README.md alone (not from the C++). It
+decodes the golden streams of tests/golden/uvmap_v1_0.h (1.0), uvmap_v1_1.h
+(1.1, per-patch seeds) and uvmap_v1_2.h (1.2, patches laid out by solve) on
+the golden mesh and checks the FNV-1a hash of the decoded
 UVs, which shows that the spec is complete enough for a second implementation
 to reproduce the UVs bit for bit.
 
@@ -144,11 +145,11 @@ def decode(stream, positions, indices):
     if r.take(4) != b"GWUV":
         raise Invalid("bad_magic")
     major, minor = r.take(1)[0], r.take(1)[0]
-    if major != 1 or minor > 1:
+    if major != 1 or minor > 2:
         raise Invalid("unsupported_version")
     flags = r.take(1)[0]
-    ROTATIONS, SCALES, SEEDS = 0x01, 0x02, 0x04
-    if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0)):
+    ROTATIONS, SCALES, SEEDS, METHODS = 0x01, 0x02, 0x04, 0x08
+    if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0) | (METHODS if minor >= 2 else 0)):
         raise Invalid("reserved_bits")
     face_count = r.varint()
     tau = struct.unpack("<f", r.take(4))[0]
@@ -161,6 +162,11 @@ def decode(stream, positions, indices):
         raise Invalid("bad_count")
     if (P != 0) if face_count == 0 else not (1 <= P <= face_count):
         raise Invalid("bad_count")
+    solve = None
+    if flags & METHODS:
+        solve = (r.varint(), r.varint(), r.varint())  # tutte CG steps, ARAP rounds, ARAP CG steps
+        if solve[0] > 1024 or solve[1] > 64 or solve[2] > 1024:
+            raise Invalid("bad_value")
     if face_count != F:
         raise Invalid("face_count_mismatch")
     part = r.take(r.varint())
@@ -256,8 +262,8 @@ def decode(stream, positions, indices):
     for f in range(F):
         faces_of[patch[f]].append(f)
     d = RangeDecoder(place)
-    NZ, NEG, MAG = Ctx(), Ctx(), [Ctx() for _ in range(16)]
-    placements, seeds = [], []
+    NZ, NEG, MAG, METHOD = Ctx(), Ctx(), [Ctx() for _ in range(16)], Ctx()
+    placements, seeds, methods = [], [], []
     for i in range(P):
         rot = d.uniform(256) if flags & ROTATIONS else 0
         x, y = d.uniform32(W + 1), d.uniform32(H + 1)
@@ -270,16 +276,17 @@ def decode(stream, positions, indices):
                 raise Invalid("bad_value")
             step = -(mag + 1) if neg else mag + 1
         rank = d.uniform32(len(faces_of[i])) if flags & SEEDS else 0
+        methods.append(d.bit(METHOD) if flags & METHODS else 0)
         placements.append((rot, x, y, page, step))
         seeds.append(faces_of[i][rank])
     d.finish()
 
-    xy = layout(positions, indices, faces_of, seeds)
+    xy = layout(positions, indices, faces_of, seeds, methods, solve)
     return patch, placements, seeds, apply(xy, patch, placements, texel_scale, W, H)
 
 
 # ---- 6.5 layout replay -----------------------------------------------------------
-def layout(pos, idx, faces_of, seeds):
+def layout(pos, idx, faces_of, seeds, methods, solve):
     F = len(idx) // 3
 
     def L2(u, w):
@@ -290,6 +297,12 @@ def layout(pos, idx, faces_of, seeds):
 
     corner_xy = [0.0] * (6 * F)
     for p, fs in enumerate(faces_of):
+        if methods[p] == 1:
+            place = solve_patch(pos, idx, fs, solve, L2)
+            for f in fs:
+                for k in range(3):
+                    corner_xy[6 * f + 2 * k], corner_xy[6 * f + 2 * k + 1] = place[idx[3 * f + k]]
+            continue
         seed = seeds[p]
         v0, v1, v2 = idx[3 * seed:3 * seed + 3]
         place = {}
@@ -339,6 +352,196 @@ def layout(pos, idx, faces_of, seeds):
                     raise Invalid("layout_unreachable_face")
                 corner_xy[6 * f + 2 * k], corner_xy[6 * f + 2 * k + 1] = place[v]
     return corner_xy
+
+
+# ---- 6.7 the solve method --------------------------------------------------------
+TINY = 1e-300
+
+
+def solve_patch(pos, idx, fs, params, L2):
+    tutte_steps, arap_rounds, arap_steps = params
+    verts = sorted({idx[3 * f + k] for f in fs for k in range(3)})
+    local = {v: i for i, v in enumerate(verts)}
+    n, F = len(verts), len(fs)
+    tris = [tuple(local[idx[3 * f + k]] for k in range(3)) for f in fs]
+    # validation: an oriented disc
+    out = [[] for _ in range(n)]
+    for a, b, c in tris:
+        if a == b or b == c or a == c:
+            raise Invalid("layout_not_disc")
+        out[a].append(b)
+        out[b].append(c)
+        out[c].append(a)
+    directed = set()
+    for a in range(n):
+        for b in out[a]:
+            if (a, b) in directed:
+                raise Invalid("layout_not_disc")
+            directed.add((a, b))
+    bout, B = [None] * n, 0
+    for a in range(n):
+        for b in sorted(out[a]):
+            if (b, a) not in directed:
+                if bout[a] is not None:
+                    raise Invalid("layout_not_disc")
+                bout[a] = b
+                B += 1
+    if B < 3:
+        raise Invalid("layout_not_disc")
+    start = min(a for a in range(n) if bout[a] is not None)
+    loop, v = [start], bout[start]
+    while v != start:
+        if v is None or len(loop) >= B:
+            raise Invalid("layout_not_disc")
+        loop.append(v)
+        v = bout[v]
+    if len(loop) != B or 2 * n - F - B != 2:
+        raise Invalid("layout_not_disc")
+    w = [dict() for _ in range(n)]
+    for a, b in directed:
+        w[a][b] = w[a].get(b, 0) + 1
+        w[b][a] = w[b].get(a, 0) + 1
+    nbr = [sorted(w[i].items()) for i in range(n)]
+    diag = [float(sum(w[i].values())) for i in range(n)]
+    seen, queue = {start}, [start]
+    for a in queue:
+        for j, _ in nbr[a]:
+            if j not in seen:
+                seen.add(j)
+                queue.append(j)
+    if len(seen) != n:
+        raise Invalid("layout_not_disc")
+
+    # boundary on the circle
+    x, y = [0.0] * n, [0.0] * n
+    total, arc = 0.0, []
+    for i in range(B):
+        arc.append(total)
+        total += math.sqrt(L2(verts[loop[i]], verts[loop[(i + 1) % B]]))
+    radius = total / 6.283185307179586
+    for i in range(B):
+        x[loop[i]], y[loop[i]] = circle_point(arc[i] / (total + TINY), radius)
+    fixed = [False] * n
+    for v in loop:
+        fixed[v] = True
+
+    def row(i, v):
+        s = 0.0
+        for j, wij in nbr[i]:
+            if not fixed[j]:
+                s += wij * v[j]
+        return diag[i] * v[i] - s
+
+    def add_fixed(bx, by):
+        for i in range(n):
+            if fixed[i]:
+                continue
+            fx = fy = 0.0
+            for j, wij in nbr[i]:
+                if fixed[j]:
+                    fx += wij * x[j]
+                    fy += wij * y[j]
+            bx[i] = bx[i] + fx
+            by[i] = by[i] + fy
+
+    def cg(bx, by, steps):
+        free = [i for i in range(n) if not fixed[i]]
+        rx, ry, px, py, qx, qy = ([0.0] * n for _ in range(6))
+        rrx = rry = 0.0
+        for i in free:
+            rx[i] = bx[i] - row(i, x)
+            ry[i] = by[i] - row(i, y)
+            px[i], py[i] = rx[i], ry[i]
+            rrx += rx[i] * rx[i]
+            rry += ry[i] * ry[i]
+        for _ in range(steps):
+            pqx = pqy = 0.0
+            for i in free:
+                qx[i], qy[i] = row(i, px), row(i, py)
+                pqx += px[i] * qx[i]
+                pqy += py[i] * qy[i]
+            ax, ay = rrx / (pqx + TINY), rry / (pqy + TINY)
+            nx = ny = 0.0
+            for i in free:
+                x[i] = x[i] + ax * px[i]
+                y[i] = y[i] + ay * py[i]
+                rx[i] = rx[i] - ax * qx[i]
+                ry[i] = ry[i] - ay * qy[i]
+                nx += rx[i] * rx[i]
+                ny += ry[i] * ry[i]
+            betx, bety = nx / (rrx + TINY), ny / (rry + TINY)
+            for i in free:
+                px[i] = rx[i] + betx * px[i]
+                py[i] = ry[i] + bety * py[i]
+            rrx, rry = nx, ny
+
+    # Tutte
+    bx, by = [0.0] * n, [0.0] * n
+    add_fixed(bx, by)
+    cg(bx, by, tutte_steps)
+
+    # ARAP
+    frames = []
+    for f in fs:
+        P = [pos[3 * idx[3 * f + k]:3 * idx[3 * f + k] + 3] for k in range(3)]
+        e1 = [P[1][c] - P[0][c] for c in range(3)]
+        e2 = [P[2][c] - P[0][c] for c in range(3)]
+        l1 = math.sqrt(e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2])
+        dot = e1[0] * e2[0] + e1[1] * e2[1] + e1[2] * e2[2]
+        cx = e1[1] * e2[2] - e1[2] * e2[1]
+        cy = e1[2] * e2[0] - e1[0] * e2[2]
+        cz = e1[0] * e2[1] - e1[1] * e2[0]
+        cross = math.sqrt(cx * cx + cy * cy + cz * cz)
+        frames.append([(0.0, 0.0), (l1, 0.0), (dot / (l1 + TINY), cross / (l1 + TINY))])
+    fixed = [False] * n
+    fixed[start] = True
+    for _ in range(arap_rounds):
+        rots = []
+        for t, X in zip(tris, frames):
+            a = b = c = d = 0.0
+            for k in range(3):
+                k1 = (k + 1) % 3
+                i, j = t[k], t[k1]
+                ux, uy = x[j] - x[i], y[j] - y[i]
+                vx, vy = X[k1][0] - X[k][0], X[k1][1] - X[k][1]
+                a += ux * vx
+                b += ux * vy
+                c += uy * vx
+                d += uy * vy
+            pc, ps = a + d, c - b
+            ln = math.sqrt(pc * pc + ps * ps)
+            rots.append((pc / (ln + TINY), ps / (ln + TINY)))
+        bx, by = [0.0] * n, [0.0] * n
+        for t, X, (co, si) in zip(tris, frames, rots):
+            for k in range(3):
+                for m in (1, 2):
+                    j = (k + m) % 3
+                    ex, ey = X[k][0] - X[j][0], X[k][1] - X[j][1]
+                    bx[t[k]] += co * ex - si * ey
+                    by[t[k]] += si * ex + co * ey
+        add_fixed(bx, by)
+        cg(bx, by, arap_steps)
+
+    # similarity scale
+    l3 = l2 = 0.0
+    for f, t in zip(fs, tris):
+        for k in range(3):
+            l3 += math.sqrt(L2(idx[3 * f + k], idx[3 * f + (k + 1) % 3]))
+            dx, dy = x[t[(k + 1) % 3]] - x[t[k]], y[t[(k + 1) % 3]] - y[t[k]]
+            l2 += math.sqrt(dx * dx + dy * dy)
+    scale = l3 / (l2 + TINY)
+    return {v: (scale * x[i], scale * y[i]) for i, v in enumerate(verts)}
+
+
+def circle_point(u, r):
+    a = 0.7853981633974483 * u
+    a2 = a * a
+    t = a * (15.0 - a2) / (15.0 - 6.0 * a2)
+    t2 = t * t
+    c1, s1 = (1.0 - t2) / (1.0 + t2), (2.0 * t) / (1.0 + t2)
+    c2, s2 = c1 * c1 - s1 * s1, (2.0 * c1) * s1
+    c, s = c2 * c2 - s2 * s2, (2.0 * c2) * s2
+    return (r * (c - 1.0), r * s)
 
 
 def place_vertex(unf):
@@ -466,17 +669,25 @@ def check_vector(name, pos, idx, median_seeds):
 
     def edit(i, v):
         return stream[:i] + bytes([v]) + stream[i + 1:]
-    # Section 4.1 / 6.1: a byte appended, minor 2, flag bit 3, and the SEEDS
-    # bit under minor 0 are rejected; minor 1 without SEEDS decodes as minor 0.
-    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 2), "unsupported_version"),
-           (edit(6, stream[6] | 0x08), "reserved_bits")]
+    # Section 4.1 / 6.1: a byte appended, minor 3, flag bit 4, a flag under a
+    # minor older than it (SEEDS under 0, METHODS under 0 or 1) are rejected;
+    # a stream without a newer flag decodes the same under a newer minor.
+    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 3), "unsupported_version"),
+           (edit(6, stream[6] | 0x10), "reserved_bits")]
     if stream[6] & 0x04:
         bad.append((edit(5, 0), "reserved_bits"))
-    else:
+    elif stream[5] == 0:
         if decode(edit(5, 1), pos, idx)[3] != uv:
             print(f"{name}: as version 1.1 decodes differently")
             ok = False
         bad.append((edit(6, stream[6] | 0x04), "reserved_bits"))
+    if stream[6] & 0x08:
+        bad.append((edit(5, 1), "reserved_bits"))
+    else:
+        if decode(edit(5, 2), pos, idx)[3] != uv:
+            print(f"{name}: as version 1.2 decodes differently")
+            ok = False
+        bad.append((edit(6, stream[6] | 0x08), "reserved_bits"))
     for bad_stream, want_err in bad:
         try:
             decode(bad_stream, pos, idx)
@@ -493,6 +704,7 @@ def main():
     pos, idx = golden_mesh()
     ok = check_vector("1_0", pos, idx, median_seeds=False)
     ok = check_vector("1_1", pos, idx, median_seeds=True) and ok
+    ok = check_vector("1_2", pos, idx, median_seeds=True) and ok
     return 0 if ok else 1
 
 

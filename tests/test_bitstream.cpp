@@ -152,7 +152,8 @@ TEST(Bitstream, CorruptHeadersAreRejected) {
   EXPECT_EQ(fx.with(3, 'X'), UvStatus::bad_magic);
   EXPECT_EQ(fx.with(4, 2), UvStatus::unsupported_version);
   EXPECT_EQ(fx.with(4, 0), UvStatus::unsupported_version);
-  EXPECT_EQ(fx.with(5, 2), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(5, 3), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(6, 0x08), UvStatus::reserved_bits);  // the methods flag needs minor >= 2
   EXPECT_EQ(fx.with(6, 0x04), UvStatus::reserved_bits);  // the seeds flag needs minor >= 1
   EXPECT_EQ(fx.with(6, 0x80), UvStatus::reserved_bits);
   EXPECT_EQ(fx.with(7, 49), UvStatus::face_count_mismatch);
@@ -305,7 +306,7 @@ TEST(Bitstream, ApplyPlacementsFormula) {
 }
 
 TEST(Bitstream, StatusStrings) {
-  for (int s = 0; s <= static_cast<int>(UvStatus::layout_bad_seed); ++s)
+  for (int s = 0; s <= static_cast<int>(UvStatus::layout_not_disc); ++s)
     EXPECT_STRNE(to_string(static_cast<UvStatus>(s)), "unknown status");
 }
 

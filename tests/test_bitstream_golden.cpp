@@ -14,6 +14,7 @@
 #include "format/bitstream/uvmap_codec.h"
 #include "golden/uvmap_v1_0.h"
 #include "golden/uvmap_v1_1.h"
+#include "golden/uvmap_v1_2.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -80,6 +81,20 @@ UvMap golden_map_v1_1(const TriMesh& m) {
   std::vector<std::vector<uint32_t>> faces(map.patch_count);
   for (uint32_t f = 0; f < m.face_count(); ++f) faces[map.patch_of_face[f]].push_back(f);
   for (uint32_t p = 0; p < map.patch_count; ++p) map.seeds.push_back(faces[p][faces[p].size() / 2]);
+  return map;
+}
+
+// The golden 1.2 map: the 1.1 map with six patches laid out by solve (the
+// 32-face blocks 0, 6, 8 and 3 (28 faces), the 4-face patch 4 and the
+// one-face patch 9); patch 1 (a block with two diagonal quads cut out, so
+// two of its faces meet at a vertex only) and patch 7 (a block around a
+// lone triangle) are not discs and unfold.
+UvMap golden_map_v1_2(const TriMesh& m) {
+  UvMap map = golden_map_v1_1(m);
+  map.methods = {1, 0, 0, 1, 1, 0, 1, 0, 1, 1};
+  map.solve.tutte_iterations = 24;
+  map.solve.arap_iterations = 4;
+  map.solve.arap_cg_iterations = 8;
   return map;
 }
 
@@ -169,4 +184,81 @@ TEST(BitstreamGolden, V1_1DecodesToFrozenUvs) {
 TEST(BitstreamGolden, V1_1EveryTruncationIsRejected) {
   expect_prefixes_truncated(
       std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)));
+}
+
+TEST(BitstreamGolden, WriterReproducesV1_2Bytes) {
+  const TriMesh mesh = golden_mesh();
+  const UvMap map = golden_map_v1_2(mesh);
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2));
+  EXPECT_EQ(bytes, golden) << "writer output changed; new bytes:\n" << hex(bytes);
+}
+
+TEST(BitstreamGolden, V1_2DecodesToFrozenUvs) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2));
+  UvMap map;
+  std::vector<float> uv;
+  ASSERT_EQ(decode_uvs(mesh, golden, uv, &map), UvStatus::ok);
+  EXPECT_EQ(map, golden_map_v1_2(mesh));
+  ASSERT_EQ(uv.size(), size_t{mesh.face_count()} * 6);
+  const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
+  EXPECT_EQ(h, golden::kUvMapV1_2UvHash) << std::hex << "0x" << h;
+  // Unfold patches decode exactly as in the 1.1 stream; solve patches differ.
+  std::vector<float> uv11;
+  ASSERT_EQ(
+      decode_uvs(mesh, std::vector<uint8_t>(std::begin(golden::kUvMapV1_1), std::end(golden::kUvMapV1_1)),
+                 uv11),
+      UvStatus::ok);
+  size_t same = 0, differ = 0;
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const bool eq = std::equal(&uv[6 * f], &uv[6 * f + 6], &uv11[6 * f]);
+    if (map.methods[map.patch_of_face[f]] == 0) {
+      EXPECT_TRUE(eq) << "unfold face " << f;
+    } else {
+      (eq ? same : differ) += 1;
+    }
+  }
+  EXPECT_GT(differ, 100u);
+  // The solve layout is fold-free: every face keeps its winding in the atlas.
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    if (map.methods[map.patch_of_face[f]] == 0) continue;
+    const float* c = &uv[6 * f];
+    const double area =
+        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
+    const uint32_t rot = map.placements[map.patch_of_face[f]].rotation;
+    EXPECT_GT(area, 0.0) << "face " << f << " rotation " << rot;
+  }
+}
+
+TEST(BitstreamGolden, V1_2EveryTruncationIsRejected) {
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2)));
+}
+
+TEST(BitstreamGolden, V1_2SolveOnANonDiscPatchIsRejected) {
+  const TriMesh mesh = golden_mesh();
+  for (const uint32_t p : {1u, 7u}) {
+    UvMap map = golden_map_v1_2(mesh);
+    map.methods[p] = 1;
+    const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+    std::vector<float> uv;
+    EXPECT_EQ(decode_uvs(mesh, bytes, uv), UvStatus::layout_not_disc) << "patch " << p;
+  }
+  // Solve parameters past their limits are bad_value; a METHODS flag under minor 1 is reserved.
+  std::vector<uint8_t> bytes(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2));
+  std::vector<float> uv;
+  auto minor1 = bytes;
+  minor1[5] = 1;
+  EXPECT_EQ(decode_uvs(mesh, minor1, uv), UvStatus::reserved_bits);
+  auto rounds = bytes;  // arap_rounds, a one-byte varint after the 23 header bytes and tutte_steps
+  ASSERT_EQ(rounds[24], 4);
+  rounds[24] = kMaxSolveRounds + 1;
+  EXPECT_EQ(decode_uvs(mesh, rounds, uv), UvStatus::bad_value);
+  auto minor3 = bytes;
+  minor3[5] = 3;
+  EXPECT_EQ(decode_uvs(mesh, minor3, uv), UvStatus::unsupported_version);
+  UvMap map = golden_map_v1_2(mesh);
+  map.solve.arap_iterations = kMaxSolveRounds + 1;
+  EXPECT_EQ(write_uvmap(map, mesh, bytes), UvStatus::bad_argument);
 }

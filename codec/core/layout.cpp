@@ -31,6 +31,10 @@ const char* to_string(LayoutStatus s) {
       return "index out of range";
     case LayoutStatus::bad_seed:
       return "seed outside its patch";
+    case LayoutStatus::bad_method:
+      return "bad layout method";
+    case LayoutStatus::not_disc:
+      return "a solved patch is not a disc";
   }
   return "unknown";
 }
@@ -167,7 +171,8 @@ inline uint32_t run_of(PatchIncidence& pi, uint32_t v, uint32_t p, uint32_t& beg
 // ascending face order, once p is fully placed.
 template <typename Emit>
 LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face, uint32_t patch_count,
-                    std::span<const uint32_t> seeds, Emit&& emit) {
+                    std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
+                    const SolveParams& solve, Emit&& emit) {
   if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
   const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
   if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
@@ -185,6 +190,11 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
     if (seeds.size() != patch_count) return LayoutStatus::bad_seed;
     for (uint32_t p = 0; p < patch_count; ++p)
       if (seeds[p] >= nf || patch_of_face[seeds[p]] != p) return LayoutStatus::bad_seed;
+  }
+  if (!methods.empty()) {
+    if (methods.size() != patch_count) return LayoutStatus::bad_method;
+    for (const uint8_t m : methods)
+      if (m > uint8_t(LayoutMethod::solve)) return LayoutStatus::bad_method;
   }
   const uint32_t* idx = mesh.indices.data();
 
@@ -217,9 +227,19 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   std::vector<uint32_t> fresh, list;
   std::vector<Unfolding> unf;
   uint32_t round_stamp = 0;
+  SolveScratch solve_scratch;
 
   for (uint32_t p = 0; p < patch_count; ++p) {
     const uint32_t mark = p + 1;
+    if (!methods.empty() && methods[p] == uint8_t(LayoutMethod::solve)) {
+      const std::span<const uint32_t> pf(pfaces.data() + poff[p], poff[p + 1] - poff[p]);
+      if (solve_patch(mesh, pf, solve, pos, solve_scratch) != SolveStatus::ok) return LayoutStatus::not_disc;
+      for (const uint32_t f : pf) {
+        const Vec2 xy[3] = {pos[idx[3 * f]], pos[idx[3 * f + 1]], pos[idx[3 * f + 2]]};
+        emit(p, f, xy);
+      }
+      continue;
+    }
     const uint32_t seed = seeds.empty() ? pfaces[poff[p]] : seeds[p];
     Vec2 sp[3];
     place_seed(mesh, seed, sp);
@@ -289,22 +309,25 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
 
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy,
-                            std::span<const uint32_t> seeds) {
+                            std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
+                            const SolveParams& solve) {
   corner_xy.clear();
   corner_xy.resize(size_t{mesh.face_count()} * 6, 0.0);
-  return replay(mesh, patch_of_face, patch_count, seeds, [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
-    double* out = corner_xy.data() + 6 * size_t{f};
-    for (int k = 0; k < 3; ++k) {
-      out[2 * k] = xy[k].x;
-      out[2 * k + 1] = xy[k].y;
-    }
-  });
+  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve,
+                [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
+                  double* out = corner_xy.data() + 6 * size_t{f};
+                  for (int k = 0; k < 3; ++k) {
+                    out[2 * k] = xy[k].x;
+                    out[2 * k + 1] = xy[k].y;
+                  }
+                });
 }
 
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, FaceSink sink, void* context,
-                            std::span<const uint32_t> seeds) {
-  return replay(mesh, patch_of_face, patch_count, seeds,
+                            std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
+                            const SolveParams& solve) {
+  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve,
                 [&](uint32_t p, uint32_t f, const Vec2 xy[3]) { sink(context, p, f, xy); });
 }
 

@@ -60,6 +60,7 @@
 #include <vector>
 
 #include "codec/core/geometry2d.h"
+#include "codec/core/layout_solve.h"
 #include "codec/core/mesh.h"
 
 namespace gltfwarp {
@@ -71,15 +72,23 @@ enum class LayoutStatus : uint8_t {
   unreachable_face,  // a face of a patch is never reached by the replay
   bad_mesh,          // an index is out of range
   bad_seed,          // a seed list of the wrong size, or a seed outside its patch
+  bad_method,        // a method list of the wrong size, or an unknown method
+  not_disc,          // a patch laid out by solve is not a topological disc (layout_solve.h)
 };
+
+// How a patch is laid out (format 1.2): the replay above, or layout_solve.h.
+enum class LayoutMethod : uint8_t { unfold = 0, solve = 1 };
 const char* to_string(LayoutStatus s);
 
 // corner_xy receives 2 doubles per corner (6 per face): the patch-local
 // position of that corner's vertex in model units. seeds: empty (every patch
-// grows from its lowest face) or one face per patch.
+// grows from its lowest face) or one face per patch. methods: empty (every
+// patch unfolds) or one LayoutMethod per patch (format 1.2); a solve patch
+// ignores its seed and is laid out by solve_patch with `solve`.
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy,
-                            std::span<const uint32_t> seeds = {});
+                            std::span<const uint32_t> seeds = {}, std::span<const uint8_t> methods = {},
+                            const SolveParams& solve = {});
 
 // The same replay, handing over each face's three corner positions instead of
 // storing them: sink(context, patch, face, xy) is called for the faces of
@@ -88,7 +97,8 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
 using FaceSink = void (*)(void* context, uint32_t patch, uint32_t face, const Vec2 xy[3]);
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, FaceSink sink, void* context,
-                            std::span<const uint32_t> seeds = {});
+                            std::span<const uint32_t> seeds = {}, std::span<const uint8_t> methods = {},
+                            const SolveParams& solve = {});
 
 // The faces of each patch in ascending order, by a counting sort: patch p's
 // faces are faces[start[p] .. start[p + 1]). Every id must be < patch_count.

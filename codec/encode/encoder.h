@@ -22,6 +22,7 @@ struct EncodeOptions {
   bool implicit_uvs = true;        // replace TEXCOORD_0 (off: plain Draco for everything)
   double tau = 1.3;                // distortion bound of every triangle
   bool greedy_partition = false;   // the paper's plain greedy growth (baseline)
+  bool mixed_layout = false;       // --layout mixed: also merge patches laid out by solve (format 1.2)
   bool report_greedy = false;      // also run greedy on each primitive and report its figures
   bool keep_source_charts = true;  // compact: no patch crosses a source UV seam (source_charts.h) ...
   bool cross_hidden_seams = true;  // ... unless the textures agree across it (seam_continuity.h)

@@ -151,6 +151,8 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
     p.patch_of_face = ip.patch_of_face;
     p.patch_count = ip.patch_count;
     p.seeds = ip.seeds;
+    p.methods = ip.methods;
+    p.solve = ip.solve;
     p.corner_xy = ip.corner_xy;
     p.face_density = density.face_density[k];
     if (k < step_bias.size()) p.scale_step_bias = step_bias[k];

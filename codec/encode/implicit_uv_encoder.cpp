@@ -427,6 +427,7 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   EmbedOptions eo;
   eo.tau = options.tau;
   eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
+  eo.solve_merge = options.mixed_layout;
   // Density-aware partition: faces of very different source texel density
   // land in different patches, so the per-patch scale can keep each one's detail.
   uint32_t image_w = 0, image_h = 0;
@@ -504,6 +505,8 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   ip.patch_of_face = std::move(er.patch_of_face);
   ip.patch_count = er.patch_count;
   ip.seeds = std::move(er.seeds);
+  ip.methods = std::move(er.methods);
+  ip.solve = er.solve;
   ip.corner_xy = std::move(er.corner_xy);
 
   pr.handling = Handling::implicit_uv;
@@ -518,6 +521,7 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
     // The paper's plain growth on the same mesh, for comparison only.
     EmbedOptions go = eo;
     go.mode = PartitionMode::greedy;
+    go.solve_merge = false;
     const Embedding g = embed(ip.tri, go);
     if (g.status == LayoutStatus::ok) {
       pr.greedy.patches = g.patch_count;

@@ -10,6 +10,7 @@
 
 #include <tiny_gltf.h>
 
+#include "codec/core/layout_solve.h"
 #include "codec/core/mesh.h"
 #include "codec/encode/encoder.h"
 #include "codec/encode/texture/texture_sampler.h"
@@ -28,6 +29,8 @@ struct ImplicitPrimitive {
   std::vector<uint32_t> patch_of_face;
   uint32_t patch_count = 0;
   std::vector<uint32_t> seeds;    // empty, or the replay's seed face of each patch
+  std::vector<uint8_t> methods;   // empty, or each patch's LayoutMethod (format 1.2)
+  SolveParams solve;              // the solve's iteration counts when a patch solves
   std::vector<double> corner_xy;  // layout_patches output
   std::vector<float> corner_uv;   // final UVs (decode_uvs output)
   bool had_tangents = false;

@@ -21,6 +21,10 @@ UvStatus from_layout_status(LayoutStatus s) {
       return UvStatus::bad_mesh;
     case LayoutStatus::bad_seed:
       return UvStatus::layout_bad_seed;
+    case LayoutStatus::bad_method:
+      return UvStatus::layout_bad_method;
+    case LayoutStatus::not_disc:
+      return UvStatus::layout_not_disc;
   }
   return UvStatus::bad_mesh;
 }
@@ -99,8 +103,8 @@ UvStatus decode_uvs(const TriMesh& mesh, std::span<const uint8_t> bytes, std::ve
   corner_uv.resize(size_t{mesh.face_count()} * 6);
   UvSink sink{transforms.data(), static_cast<double>(map.atlas_width), static_cast<double>(map.atlas_height),
               corner_uv.data()};
-  if (const LayoutStatus ls =
-          layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink, map.seeds);
+  if (const LayoutStatus ls = layout_patches(mesh, map.patch_of_face, map.patch_count, &UvSink::emit, &sink,
+                                             map.seeds, map.methods, map.solve);
       ls != LayoutStatus::ok)
     return from_layout_status(ls);
   return UvStatus::ok;

@@ -167,6 +167,10 @@ const char* to_string(UvStatus s) {
       return "layout: face unreachable from its patch seed";
     case UvStatus::layout_bad_seed:
       return "layout: seed outside its patch";
+    case UvStatus::layout_bad_method:
+      return "layout: bad layout method";
+    case UvStatus::layout_not_disc:
+      return "layout: a solved patch is not a disc";
   }
   return "unknown status";
 }

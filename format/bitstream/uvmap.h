@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "codec/core/layout_solve.h"
 #include "codec/core/mesh.h"
 
 namespace gltfwarp {
@@ -41,6 +42,11 @@ struct UvMap {
   // Format 1.1: the face each patch's replay grows from, one per patch (a
   // face of that patch). Empty: every patch grows from its lowest face (1.0).
   std::vector<uint32_t> seeds;
+  // Format 1.2: each patch's LayoutMethod (codec/core/layout.h), one per
+  // patch, and the solve's iteration counts. Empty: every patch unfolds (a
+  // writer given only unfold methods writes the same stream as without).
+  std::vector<uint8_t> methods;
+  SolveParams solve;
 
   friend bool operator==(const UvMap&, const UvMap&) = default;
 };
@@ -82,6 +88,8 @@ enum class UvStatus : uint8_t {
   layout_patch_order,       // layout_patches reported patch_order
   layout_unreachable_face,  // layout_patches: a face of a patch is never reached by the replay
   layout_bad_seed,          // layout_patches: a seed outside its patch (the writer checks this too)
+  layout_bad_method,        // layout_patches: a method list of the wrong size or an unknown method
+  layout_not_disc,          // layout_patches: a patch laid out by solve is not a disc
 };
 const char* to_string(UvStatus s);
 

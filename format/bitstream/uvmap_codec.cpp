@@ -204,6 +204,16 @@ struct Reader {
 
 bool scale_step_ok(int32_t s) { return s >= kMinScaleStep && s <= kMaxScaleStep; }
 
+bool solve_params_ok(const SolveParams& s) {
+  return s.tutte_iterations <= kMaxSolveCg && s.arap_cg_iterations <= kMaxSolveCg &&
+         s.arap_iterations <= kMaxSolveRounds;
+}
+
+bool any_solve(const UvMap& map) {
+  return std::any_of(map.methods.begin(), map.methods.end(),
+                     [](uint8_t m) { return m == uint8_t(LayoutMethod::solve); });
+}
+
 UvStatus check_header_fields(uint32_t face_count, float tau, float texel_scale, uint32_t w, uint32_t h,
                              uint32_t pages, uint32_t patches) {
   if (!std::isfinite(tau) || !(tau > 0.0f)) return UvStatus::bad_value;
@@ -228,7 +238,8 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   if (info.version_major != kUvVersionMajor || info.version_minor > kUvVersionMinor)
     return UvStatus::unsupported_version;
   GW_TRY(r.u8(info.flags));
-  const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0);
+  const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0) |
+                        (info.version_minor >= 2 ? kUvFlagMethods : 0);
   if (info.flags & ~known) return UvStatus::reserved_bits;
   GW_TRY(r.varint(info.face_count));
   GW_TRY(r.f32(info.tau));
@@ -237,8 +248,15 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   GW_TRY(r.varint(info.atlas_height));
   GW_TRY(r.varint(info.page_count));
   GW_TRY(r.varint(info.patch_count));
-  return check_header_fields(info.face_count, info.tau, info.texel_scale, info.atlas_width, info.atlas_height,
-                             info.page_count, info.patch_count);
+  GW_TRY(check_header_fields(info.face_count, info.tau, info.texel_scale, info.atlas_width, info.atlas_height,
+                             info.page_count, info.patch_count));
+  if (info.flags & kUvFlagMethods) {
+    GW_TRY(r.varint(info.solve.tutte_iterations));
+    GW_TRY(r.varint(info.solve.arap_iterations));
+    GW_TRY(r.varint(info.solve.arap_cg_iterations));
+    if (!solve_params_ok(info.solve)) return UvStatus::bad_value;
+  }
+  return UvStatus::ok;
 }
 
 UvStatus read_sections(Reader& r, UvStreamInfo& info, std::span<const uint8_t>& part,
@@ -298,6 +316,12 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh) {
     if (map.seeds.size() != map.patch_count) return UvStatus::bad_argument;
     for (uint32_t p = 0; p < map.patch_count; ++p)
       if (map.seeds[p] >= nf || map.patch_of_face[map.seeds[p]] != p) return UvStatus::bad_argument;
+  }
+  if (!map.methods.empty()) {
+    if (map.methods.size() != map.patch_count) return UvStatus::bad_argument;
+    for (const uint8_t m : map.methods)
+      if (m > uint8_t(LayoutMethod::solve)) return UvStatus::bad_argument;
+    if (!solve_params_ok(map.solve)) return UvStatus::bad_argument;
   }
   for (const PatchPlacement& pl : map.placements) {
     if (pl.rotation >= kRotationSteps || pl.page >= map.page_count || !scale_step_ok(pl.scale_step))
@@ -375,6 +399,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
     if (pl.scale_step != 0) flags |= kUvFlagScales;
   }
   if (!map.seeds.empty()) flags |= kUvFlagSeeds;
+  if (any_solve(map)) flags |= kUvFlagMethods;
   // Seeds are coded as their rank among their patch's faces in ascending order.
   std::vector<uint32_t> patch_faces, seed_rank;
   if (flags & kUvFlagSeeds) {
@@ -389,6 +414,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   rc::Encoder ce;
   {
     ScaleModel sm;
+    rc::BitModel method_model;
     for (uint32_t p = 0; p < map.patch_count; ++p) {
       const PatchPlacement& pl = map.placements[p];
       if (flags & kUvFlagRotations) ce.uniform(pl.rotation, kRotationSteps);
@@ -403,6 +429,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
         }
       }
       if (flags & kUvFlagSeeds) ce.uniform32(seed_rank[p], patch_faces[p]);
+      if (flags & kUvFlagMethods) ce.bit(method_model, map.methods[p]);
     }
   }
   const std::vector<uint8_t> place = ce.finish();
@@ -411,7 +438,9 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   out.reserve(40 + part.size() + place.size());
   for (const uint8_t b : kUvMagic) out.push_back(b);
   out.push_back(kUvVersionMajor);
-  out.push_back((flags & kUvFlagSeeds) ? 1 : 0);  // the oldest minor that reads this stream
+  out.push_back((flags & kUvFlagMethods) ? 2
+                : (flags & kUvFlagSeeds) ? 1
+                                         : 0);  // the oldest minor that reads it
   out.push_back(flags);
   put_varint(out, nf);
   put_f32(out, map.tau);
@@ -420,6 +449,11 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   put_varint(out, map.atlas_height);
   put_varint(out, map.page_count);
   put_varint(out, map.patch_count);
+  if (flags & kUvFlagMethods) {
+    put_varint(out, map.solve.tutte_iterations);
+    put_varint(out, map.solve.arap_iterations);
+    put_varint(out, map.solve.arap_cg_iterations);
+  }
   put_varint(out, static_cast<uint32_t>(part.size()));
   out.insert(out.end(), part.begin(), part.end());
   put_varint(out, static_cast<uint32_t>(place.size()));
@@ -513,6 +547,9 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
 
   out.placements.assign(out.patch_count, PatchPlacement{});
   out.seeds.clear();
+  out.methods.clear();
+  out.solve = (info.flags & kUvFlagMethods) ? info.solve : SolveParams{};
+  if (info.flags & kUvFlagMethods) out.methods.assign(out.patch_count, 0);
   // Seeds: the rank-th face of each patch in ascending order (sized by nf;
   // every patch id is < patch_count after the partition section).
   std::vector<uint32_t> patch_start, face_list;
@@ -523,6 +560,7 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
   {
     rc::Decoder cd(place);
     ScaleModel sm;
+    rc::BitModel method_model;
     for (uint32_t p = 0; p < out.patch_count; ++p) {
       PatchPlacement& pl = out.placements[p];
       if (info.flags & kUvFlagRotations) pl.rotation = cd.uniform(kRotationSteps);
@@ -543,6 +581,7 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
         const uint32_t n = patch_start[p + 1] - patch_start[p];
         out.seeds[p] = face_list[patch_start[p] + cd.uniform32(n)];
       }
+      if (info.flags & kUvFlagMethods) out.methods[p] = static_cast<uint8_t>(cd.bit(method_model));
       if (cd.failed()) return rc_status(cd);
     }
     GW_TRY(rc_status(cd));

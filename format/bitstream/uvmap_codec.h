@@ -25,11 +25,12 @@ namespace gltfwarp {
 
 constexpr uint8_t kUvMagic[4] = {'G', 'W', 'U', 'V'};
 constexpr uint8_t kUvVersionMajor = 1;
-constexpr uint8_t kUvVersionMinor = 1;  // the newest minor this reader knows
+constexpr uint8_t kUvVersionMinor = 2;  // the newest minor this reader knows
 // Header flag bits (all others are reserved and must be 0).
 constexpr uint8_t kUvFlagRotations = 1u << 0;  // per-patch rotation codes are present
 constexpr uint8_t kUvFlagScales = 1u << 1;     // per-patch scale steps are present
 constexpr uint8_t kUvFlagSeeds = 1u << 2;      // per-patch seeds are present (minor >= 1)
+constexpr uint8_t kUvFlagMethods = 1u << 3;    // solve parameters and per-patch methods (minor >= 2)
 
 // Header fields and section sizes, read without the mesh (for `gltf-warp info`).
 struct UvStreamInfo {
@@ -37,6 +38,7 @@ struct UvStreamInfo {
   uint32_t face_count = 0;
   float tau = 0, texel_scale = 0;
   uint32_t atlas_width = 0, atlas_height = 0, page_count = 0, patch_count = 0;
+  SolveParams solve;             // when flags has kUvFlagMethods
   uint32_t header_bytes = 0;     // everything before the partition section's bytes
   uint32_t partition_bytes = 0;  // range-coded partition (without its size field)
   uint32_t placement_bytes = 0;  // range-coded placements (without its size field)
@@ -49,8 +51,10 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh);
 
 // Writes the bitstream. The flags are chosen from the content (rotations are
 // written only if some rotation is non-zero, scales only if some step is,
-// seeds only if map.seeds is not empty). A stream without seeds is written as
-// version 1.0, byte for byte what a 1.0 writer produced; with seeds, 1.1.
+// seeds only if map.seeds is not empty, methods only if some patch solves).
+// The version is the lowest that expresses the stream: without seeds or
+// solve patches 1.0, byte for byte what a 1.0 writer produced; with seeds
+// 1.1; with a solve patch 1.2.
 UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>& out);
 // Same, throwing std::invalid_argument (with to_string of the status) on error.
 std::vector<uint8_t> write_uvmap(const UvMap& map, const TriMesh& mesh);

@@ -7,6 +7,7 @@ import { lowerNeighbours, vertexFaces } from './mesh_adjacency.js';
 import { decodePartition } from './partition.js';
 import { decodePlacements, facesByPatch } from './placements.js';
 import { layoutPatches } from './layout_replay.js';
+import { solvePatchAt } from './layout_solve.js';
 import { readHeader } from './stream_header.js';
 import { patchScale, rotationCosSin } from './transform_tables.js';
 
@@ -48,7 +49,7 @@ export function decodeUvs(mesh, bytes) {
   // once per (vertex, patch) and copied: doneIn[v] === p + 1 says uvOf[v] is
   // the pair of v in patch p (the same expression, so the same bits).
   const doneIn = new Uint32Array(vertexCount), uvOf = new Float32Array(2 * vertexCount);
-  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, (p, f, xy) => {
+  const emit = (p, f, xy) => {
     for (let k = 0; k < 3; ++k) {
       const v = indices[3 * f + k], o = 6 * f + 2 * k;
       if (doneIn[v] !== p + 1) {
@@ -62,7 +63,10 @@ export function decodeUvs(mesh, bytes) {
       uv[o] = uvOf[2 * v];
       uv[o + 1] = uvOf[2 * v + 1];
     }
-  }, vf); // the partition is done with vf: the layout may reorder it
+  };
+  // 1.2: solve patches (section 6.7) are laid out by layout_solve.js, in patch order.
+  const solveAt = header.solve ? solvePatchAt(positions, indices, byPatch, placements.method, header.solve, emit) : null;
+  layoutPatches(positions, indices, vertexCount, patchOfFace, P, byPatch, placements.seed, emit, vf, solveAt); // vf: the layout may reorder it
   const t3 = performance.now();
   return { uv, header, patchOfFace, placements, timings: { adjacency: t1 - t0, partition: t2 - t1, layout: t3 - t2 } };
 }

@@ -141,7 +141,7 @@ function placeSeed(pos, v0, v1, v2, sp) {
 // xy a Float64Array of 6 (reused between calls). vf: optional, the
 // vertexFaces(indices, vertexCount) the caller already has; its face lists
 // are reordered here (by patch), so the caller must be done with them.
-export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, vf = null) {
+export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount, byPatch, seeds, emit, vf = null, solveAt = null) {
   const nf = patchOfFace.length;
   // Incidences per vertex, sorted by (patch, face): each vertex's face list
   // (ascending) stably sorted by patch. Almost every list is one patch
@@ -173,6 +173,7 @@ export function layoutPatches(pos, indices, vertexCount, patchOfFace, patchCount
   let pendingN = 0;
 
   for (let p = 0; p < patchCount; ++p) {
+    if (solveAt && solveAt(p)) continue; // 1.2: a solve patch (layout_solve.js), laid out in patch order
     const mark = p + 1;
     const seed = seeds[p];
     placeSeed(pos, indices[3 * seed], indices[3 * seed + 1], indices[3 * seed + 2], sp);

@@ -2,7 +2,7 @@
 // scale step and (1.1) seed face.
 import { GltfWarpError } from './errors.js';
 import { contexts, RangeDecoder } from './range_decoder.js';
-import { FLAG_ROTATIONS, FLAG_SCALES, FLAG_SEEDS } from './stream_header.js';
+import { FLAG_METHODS, FLAG_ROTATIONS, FLAG_SCALES, FLAG_SEEDS } from './stream_header.js';
 
 const MAX_SCALE_MAGNITUDE = 31;
 
@@ -23,10 +23,10 @@ export function decodePlacements(header, byPatch) {
   const P = header.patchCount;
   const out = {
     rotation: new Uint8Array(P), x: new Uint32Array(P), y: new Uint32Array(P),
-    page: new Uint32Array(P), scaleStep: new Int8Array(P), seed: new Uint32Array(P),
+    page: new Uint32Array(P), scaleStep: new Int8Array(P), seed: new Uint32Array(P), method: new Uint8Array(P),
   };
   const d = new RangeDecoder(header.placements);
-  const nonzero = contexts(1), negative = contexts(1), magnitude = contexts(16);
+  const nonzero = contexts(1), negative = contexts(1), magnitude = contexts(16), method = contexts(1);
   const { flags } = header;
   for (let p = 0; p < P; ++p) {
     if (flags & FLAG_ROTATIONS) out.rotation[p] = d.uniform(256);
@@ -42,6 +42,7 @@ export function decodePlacements(header, byPatch) {
     const first = byPatch.start[p];
     const rank = flags & FLAG_SEEDS ? d.uniform32(byPatch.start[p + 1] - first) : 0;
     out.seed[p] = byPatch.faces[first + rank];
+    if (flags & FLAG_METHODS) out.method[p] = d.bit(method, 0); // 1.2: 0 unfold, 1 solve
   }
   d.finish('placement');
   return out;

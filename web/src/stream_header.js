@@ -4,7 +4,7 @@
 import { GltfWarpError } from './errors.js';
 
 const MAGIC = [0x47, 0x57, 0x55, 0x56]; // "GWUV"
-export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04;
+export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04, FLAG_METHODS = 0x08;
 const MAX_ATLAS = 65536, MAX_PAGES = 65536;
 
 class ByteReader {
@@ -57,9 +57,9 @@ export function readHeader(bytes, meshFaceCount) {
   const r = new ByteReader(bytes);
   r.pos = 4;
   const major = r.u8('version_major'), minor = r.u8('version_minor');
-  if (major !== 1 || minor > 1) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
+  if (major !== 1 || minor > 2) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
   const flags = r.u8('flags');
-  const known = FLAG_ROTATIONS | FLAG_SCALES | (minor >= 1 ? FLAG_SEEDS : 0);
+  const known = FLAG_ROTATIONS | FLAG_SCALES | (minor >= 1 ? FLAG_SEEDS : 0) | (minor >= 2 ? FLAG_METHODS : 0);
   if (flags & ~known) throw new GltfWarpError('reserved_bits', `flags 0x${flags.toString(16)}`);
   const h = { major, minor, flags };
   h.faceCount = r.varint('face_count');
@@ -76,6 +76,11 @@ export function readHeader(bytes, meshFaceCount) {
   if (h.pageCount < 1 || h.pageCount > MAX_PAGES) throw new GltfWarpError('bad_count', `page_count ${h.pageCount}`);
   if (h.faceCount === 0 ? h.patchCount !== 0 : h.patchCount < 1 || h.patchCount > h.faceCount)
     throw new GltfWarpError('bad_count', `patch_count ${h.patchCount} for ${h.faceCount} faces`);
+  if (flags & FLAG_METHODS) { // 1.2: the solve's step counts (section 6.7)
+    h.solve = { tutteSteps: r.varint('tutte_steps'), arapRounds: r.varint('arap_rounds'), arapSteps: r.varint('arap_steps') };
+    if (h.solve.tutteSteps > 1024 || h.solve.arapRounds > 64 || h.solve.arapSteps > 1024)
+      throw new GltfWarpError('bad_value', 'solve parameters out of range');
+  }
   if (h.faceCount !== meshFaceCount)
     throw new GltfWarpError('face_count_mismatch', `stream has ${h.faceCount} faces, mesh ${meshFaceCount}`);
   h.partition = r.span(r.varint('partition_size'), 'partition section');

@@ -6,6 +6,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { decodeUvs } from '../src/decode_uvs.js';
 import { facesByPatch } from '../src/placements.js';
+import { solvePatch } from '../src/layout_solve.js';
 import { fnv1a64 } from './support/fnv1a.js';
 import { goldenMesh, goldenVector } from './support/golden_vectors.js';
 
@@ -27,7 +28,7 @@ function edited(bytes, i, v) {
   return b;
 }
 
-for (const [name, medianSeeds] of [['1_0', false], ['1_1', true]]) {
+for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true]]) {
   const { bytes, hash } = goldenVector(name);
 
   test(`golden ${name}: UV hash`, () => {
@@ -53,14 +54,20 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true]]) {
     const longer = new Uint8Array(bytes.length + 1);
     longer.set(bytes);
     assert.equal(errorCode(longer), 'trailing_bytes');
-    assert.equal(errorCode(edited(bytes, 5, 2)), 'unsupported_version');
+    assert.equal(errorCode(edited(bytes, 5, 3)), 'unsupported_version');
     assert.equal(errorCode(edited(bytes, 0, 0x48)), 'bad_magic');
-    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x08)), 'reserved_bits');
+    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x10)), 'reserved_bits');
     if (bytes[6] & 0x04) {
       assert.equal(errorCode(edited(bytes, 5, 0)), 'reserved_bits');
-    } else {
+    } else if (bytes[5] === 0) {
       assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x04)), 'reserved_bits');
       assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 1)).uv), hash, 'minor 1 without SEEDS');
+    }
+    if (bytes[6] & 0x08) {
+      assert.equal(errorCode(edited(bytes, 5, 1)), 'reserved_bits');
+    } else {
+      assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x08)), 'reserved_bits');
+      assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 2)).uv), hash, 'minor 2 without METHODS');
     }
   });
 
@@ -75,3 +82,33 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true]]) {
     assert.throws(() => decodeUvs(bad, bytes), { code: 'bad_mesh' });
   });
 }
+
+test('golden 1_2: solve patches are laid out, unfold patches decode as in 1.1', () => {
+  const v12 = decodeUvs(mesh, goldenVector('1_2').bytes), v11 = decodeUvs(mesh, goldenVector('1_1').bytes);
+  const { method } = v12.placements;
+  assert.deepEqual(Array.from(method), [1, 0, 0, 1, 1, 0, 1, 0, 1, 1]);
+  for (let f = 0; f < 192; ++f) {
+    if (method[v12.patchOfFace[f]]) continue;
+    for (let k = 0; k < 6; ++k) assert.equal(v12.uv[6 * f + k], v11.uv[6 * f + k], `face ${f}`);
+  }
+});
+
+test('golden 1_2: solve parameters past their limits are bad_value', () => {
+  const { bytes } = goldenVector('1_2');
+  assert.equal(bytes[24], 4); // arap_rounds, after 23 header bytes and tutte_steps
+  assert.equal(errorCode(edited(bytes, 24, 65)), 'bad_value');
+});
+
+test('solve rejects patches that are not discs', () => {
+  const { patchOfFace } = decodeUvs(mesh, goldenVector('1_2').bytes);
+  const params = { tutteSteps: 4, arapRounds: 1, arapSteps: 2 };
+  for (const [p, disc] of [[0, true], [1, false], [7, false]]) {
+    const faces = Uint32Array.from([...patchOfFace.keys()].filter((f) => patchOfFace[f] === p));
+    const run = () => solvePatch(mesh.positions, mesh.indices, faces, params);
+    if (disc) run();
+    else assert.throws(run, { code: 'layout_not_disc' }, `patch ${p}`);
+  }
+  const all = Uint32Array.from({ length: 192 }, (_, f) => f);
+  const whole = solvePatch(mesh.positions, mesh.indices, all, params); // the whole grid is one disc
+  assert.equal(whole.verts.length, 117);
+});

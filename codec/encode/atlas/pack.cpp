@@ -723,6 +723,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       m.patch_count = prims[i].patch_count;
       m.patch_of_face.assign(prims[i].patch_of_face.begin(), prims[i].patch_of_face.end());
       m.seeds.assign(prims[i].seeds.begin(), prims[i].seeds.end());
+      m.methods.assign(prims[i].methods.begin(), prims[i].methods.end());
+      m.solve = prims[i].solve;
       m.placements.assign(m.patch_count, PatchPlacement{});
     }
     for (size_t pi = 0; pi < patches.size(); ++pi) {

@@ -39,7 +39,9 @@ struct PackPrimitive {
   // the density rule), e.g. negative where the content is smooth enough to
   // keep its quality with fewer texels.
   std::span<const int32_t> scale_step_bias;
-  std::span<const uint32_t> seeds;  // empty (lowest faces) or one per patch: copied to UvMap::seeds
+  std::span<const uint32_t> seeds;   // empty (lowest faces) or one per patch: copied to UvMap::seeds
+  std::span<const uint8_t> methods;  // empty (all unfold) or one per patch: copied to UvMap::methods
+  SolveParams solve;                 // copied to UvMap::solve
 };
 
 enum class SizeRounding : uint8_t {

@@ -40,6 +40,7 @@
 #include "codec/core/geometry2d.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
+#include "codec/encode/partition/solve_merge.h"
 
 namespace gltfwarp {
 namespace {
@@ -1037,6 +1038,7 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
   Grower g(mesh, vf, opt);
   std::vector<std::vector<uint32_t>> patches;
   std::vector<uint32_t> seed_of;  // per entry of patches (compact mode)
+  std::vector<uint8_t> methods;   // per entry of patches, when solve merges ran
   if (opt.mode == PartitionMode::compact) {
     const FaceFrames frames = face_frames(mesh);
     SeedPicker picker(mesh, opp, frames);
@@ -1077,6 +1079,23 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
     grow_all(g, patches);
     for (size_t p = centred; p < patches.size(); ++p)
       seed_of.push_back(*std::min_element(patches[p].begin(), patches[p].end()));
+    if (opt.solve_merge) {
+      SolveMergeOptions so;
+      so.tau = opt.tau;
+      so.params = opt.solve;
+      so.max_faces = opt.solve_max_faces;
+      so.budget = opt.solve_budget;
+      so.max_solved_share = opt.solve_max_share;
+      so.min_fill = opt.merge_min_fill;
+      const auto can_join = [&](uint32_t a, uint32_t b) {
+        if (!dr.active) return true;
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (uint32_t f : patches[a]) DensityRule::extend(lo, hi, dr.at(f));
+        for (uint32_t f : patches[b]) DensityRule::extend(lo, hi, dr.at(f));
+        return !(lo <= hi && hi - lo > dr.limit);
+      };
+      if (solve_merge(mesh, opp, patches, g.xy, methods, so, can_join) > 0) out.solve = so.params;
+    }
   } else {
     grow_all(g, patches, /*plain=*/true);
   }
@@ -1094,18 +1113,28 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
   for (uint32_t p = 0; p < patches.size(); ++p)
     for (uint32_t f : patches[p]) out.patch_of_face[f] = rank[p];
   out.patch_count = count;
+  bool any_solve = false;
+  for (uint8_t m : methods) any_solve = any_solve || m == uint8_t(LayoutMethod::solve);
+  if (any_solve) {
+    out.methods.assign(count, uint8_t(LayoutMethod::unfold));
+    for (uint32_t p = 0; p < patches.size(); ++p)
+      if (!patches[p].empty()) out.methods[rank[p]] = methods[p];
+  }
   if (!seed_of.empty()) {
     out.seeds.assign(count, 0);
     bool all_lowest = true;
     for (uint32_t p = 0; p < patches.size(); ++p) {
       if (patches[p].empty()) continue;
+      // A solved patch has no seed: its lowest face costs the fewest bits.
+      if (any_solve && methods[p] == uint8_t(LayoutMethod::solve)) seed_of[p] = low[p];
       out.seeds[rank[p]] = seed_of[p];
       all_lowest = all_lowest && seed_of[p] == low[p];
     }
     if (all_lowest) out.seeds.clear();  // a 1.0 stream says the same in fewer bytes
   }
   out.encoder_xy = std::move(g.xy);
-  out.status = layout_patches(mesh, out.patch_of_face, out.patch_count, out.corner_xy, out.seeds);
+  out.status = layout_patches(mesh, out.patch_of_face, out.patch_count, out.corner_xy, out.seeds, out.methods,
+                              out.solve);
   if (out.status == LayoutStatus::ok)
     out.report = measure_embedding(mesh, out.patch_of_face, out.patch_count, out.corner_xy, opt.tau);
   return out;

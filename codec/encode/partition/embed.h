@@ -61,6 +61,15 @@ struct EmbedOptions {
   // Fox 143 -> 176, truck 616 -> 711. Seams inside one chart (a chart cut
   // by a slit, like a cylinder's) are not enforced.
   std::span<const uint32_t> face_chart;
+  // Compact: after the partition, merge adjacent patches into patches laid
+  // out by the solve method (format 1.2, solve_merge.h) where the decoder's
+  // solve of the union is fold-free, within tau and overlap-free. Off: every
+  // patch unfolds and the stream stays 1.0/1.1, byte for byte as before.
+  bool solve_merge = false;
+  SolveParams solve;                // the solve's iteration counts (stored in the stream)
+  uint32_t solve_max_faces = 4096;  // no solved patch larger
+  double solve_budget = 2.0;        // trial solves cover at most this x face count faces (plus 64k)
+  double solve_max_share = 1.0;     // at most this share of faces in solved patches
 };
 
 struct Embedding {
@@ -70,6 +79,9 @@ struct Embedding {
   // The face each patch grows from (format 1.1); empty when every patch
   // grows from its lowest face (greedy mode, and compact when that holds).
   std::vector<uint32_t> seeds;
+  // Format 1.2: one LayoutMethod per patch, or empty when every patch unfolds.
+  std::vector<uint8_t> methods;
+  SolveParams solve;
   std::vector<double> corner_xy;   // from layout_patches (what the decoder computes)
   std::vector<double> encoder_xy;  // what the encoder's growth computed (test: == corner_xy)
   EmbedReport report;

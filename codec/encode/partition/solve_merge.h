@@ -1,0 +1,50 @@
+// Encoder only: merges adjacent patches of a finished partition into patches
+// laid out by the solve method (codec/core/layout_solve.h, format 1.2). The
+// unfolding replay folds unions over where two growth fronts meet; a Tutte +
+// ARAP solve of the same union is fold-free by construction of its start and
+// often stays within tau, so the union can be one patch and its seam goes.
+//
+// A merge is accepted only on the decoder's own output: solve_patch's
+// positions must give every face a positive exact orientation, a distortion
+// <= tau, a simple boundary whose enclosed area equals the faces' area (no
+// overlap, no wrapped vertex), and a fill no worse than allowed.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <span>
+#include <vector>
+
+#include "codec/core/layout_solve.h"
+#include "codec/core/mesh.h"
+
+namespace gltfwarp {
+
+struct SolveMergeOptions {
+  double tau = 1.3;
+  SolveParams params;           // what the stream will store
+  uint32_t max_faces = 4096;    // no solved patch larger (bounds the decoder's work per patch)
+  double budget = 2.0;          // trial solves may cover this many x face count faces (plus 64k)
+  int rounds = 8;               // passes over adjacent patch pairs
+  double min_fill = 0.55;       // a union must keep area/min-rect >= min(this, both parts' fill)
+  double max_solved_share = 1;  // at most this share of all faces in solved patches (decode time)
+};
+
+// patches: face sets (any order inside; emptied when merged away); xy: 6
+// doubles per face, the positions of the current layout, overwritten for the
+// faces of new solve patches; method: one LayoutMethod per entry of patches
+// (resized, unfold for untouched entries). can_join(a, b) says whether two
+// patches may share a patch at all (the encoder's density and chart rules).
+// Returns the number of merges.
+size_t solve_merge(const TriMesh& mesh, std::span<const uint32_t> opposite_corner,
+                   std::vector<std::vector<uint32_t>>& patches, std::vector<double>& xy,
+                   std::vector<uint8_t>& method, const SolveMergeOptions& options,
+                   const std::function<bool(uint32_t, uint32_t)>& can_join);
+
+// The acceptance test above, for one face set (ascending) already laid out
+// in xy (6 doubles per face id): true when every face is positively
+// oriented, within tau, and the patch covers the plane once.
+bool solved_patch_acceptable(const TriMesh& mesh, std::span<const uint32_t> faces, std::span<const double> xy,
+                             double tau);
+
+}  // namespace gltfwarp
