@@ -38,20 +38,47 @@ int encode_file(const std::string& in, const std::string& out, EncodeOptions opt
   return 0;
 }
 
+const char* budget_name(DensityMode mode) {
+  switch (mode) {
+    case DensityMode::preserve_used_texels:
+      return "used";
+    case DensityMode::percentile:
+      return "p90";
+    case DensityMode::preserve_texel_count:
+      break;
+  }
+  return "count";
+}
+
+// --texel-density as the options hold it: auto, Nx (a factor) or N.
+std::string density_text(const EncodeOptions& o) {
+  if (o.texel_density > 0) return CLI::detail::to_string(o.texel_density);
+  if (o.texel_density_factor != 1.0) return CLI::detail::to_string(o.texel_density_factor) + "x";
+  return "auto";
+}
+
 }  // namespace
 
+// Every default comes from EncodeOptions (and DracoOptions): the options are
+// bound to a default-constructed struct's fields and --help shows their
+// values; the few options that are words stand for a field's value, and
+// their defaults are read from the struct too.
 Runner add_encode(CLI::App& app) {
   struct Args {
     std::vector<std::string> inputs;
-    std::string out, geometry = "draco", partition = "compact", layout = "unfold", texel_density = "auto",
-                     image_format = "keep", texel_budget = "count";
+    std::string out, geometry, partition, layout, texel_density, texel_budget;
     EncodeOptions opt;
     BatchOptions batch;
     std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
-    bool quiet = false, explicit_uvs = false, always_implicit = false, fixed_density = false,
-         cross_source_seams = false, keep_hidden_seams = false;
+    bool quiet = false;
   };
   auto a = std::make_shared<Args>();
+  a->geometry = a->opt.raw_geometry ? "raw" : "draco";
+  a->partition = a->opt.greedy_partition ? "greedy" : "compact";
+  a->layout = a->opt.mixed_layout ? "mixed" : "unfold";
+  a->texel_density = density_text(a->opt);
+  a->texel_budget = budget_name(a->opt.texel_budget);
+  app.option_defaults()->always_capture_default();
   app.add_option("inputs", a->inputs,
                  "Source .gltf or .glb; several files or directories (searched recursively) with --out-dir")
       ->required()
@@ -61,22 +88,19 @@ Runner add_encode(CLI::App& app) {
   app.add_option("--batch-worker-input", a->worker_in)->group("");
   app.add_option("--batch-worker-output", a->worker_out)->group("");
   app.add_option("--max-distortion", a->opt.tau, "Distortion bound tau of every triangle (>= 1)")
-      ->default_val(1.3)
       ->check(CLI::Range(1.0001, 100.0));
   app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
-      ->default_val("compact")
       ->check(CLI::IsMember({"compact", "greedy"}));
   app.add_option("--layout", a->layout,
                  "unfold (every patch replays the unfolding: format 1.0/1.1), or mixed (compact: also merge "
                  "patches whose union the solve method lays out within tau: format 1.2)")
-      ->default_val("unfold")
       ->check(CLI::IsMember({"unfold", "mixed"}));
   app.add_flag(
       "--report-greedy", a->opt.report_greedy,
       "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
       "beside ours (not used for the output)");
   app.add_flag(
-      "--cross-source-seams", a->cross_source_seams,
+      "!--cross-source-seams", a->opt.keep_source_charts,
       "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
       "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
       "textures hide (the same colours on both sides)");
@@ -85,41 +109,32 @@ Runner add_encode(CLI::App& app) {
       "Fit the atlas texels so that their bilinear reconstruction best matches the source over the "
       "surface (by default each texel samples the source at its centre; the fit costs bytes at equal "
       "quality on the corpus)");
-  app.add_flag("--keep-hidden-seams", a->keep_hidden_seams,
+  app.add_flag("!--keep-hidden-seams", a->opt.cross_hidden_seams,
                "Keep patches inside the source's UV charts even across seams the textures hide");
   app.add_option("--geometry", a->geometry, "draco, or raw (float accessors: isolates the UV part)")
-      ->default_val("draco")
       ->check(CLI::IsMember({"draco", "raw"}));
   app.add_option(
-         "--texel-density", a->texel_density,
-         "auto (keep the source's texels per unit), Nx (N times auto, e.g. 0.5x), or N texels per model unit")
-      ->default_val("auto");
+      "--texel-density", a->texel_density,
+      "auto (keep the source's texels per unit), Nx (N times auto, e.g. 0.5x), or N texels per model unit");
   app.add_option(
          "--texel-budget", a->texel_budget,
          "what auto keeps: count (every source triangle's texels; repeated or mirrored UVs count per use), "
          "used (distinct source texels: smaller atlas, less detail), p90 (90th percentile density)")
-      ->default_val("count")
       ->check(CLI::IsMember({"count", "used", "p90"}));
   app.add_option("--max-atlas-size", a->opt.max_atlas_size, "Largest atlas side in texels")
-      ->default_val(4096)
       ->check(CLI::Range(16, 65536));
   app.add_option(
          "--max-pages", a->opt.max_pages,
          "Atlas pages (images of --max-atlas-size) a texture set may spread over before its density shrinks "
          "to fit; a primitive too large for one page is cut into primitives of one page each. 1: one page")
-      ->default_val(16)
       ->check(CLI::Range(1, 256));
-  app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")
-      ->default_val(4)
-      ->check(CLI::Range(0, 64));
+  app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->check(CLI::Range(0, 64));
   app.add_flag("--power-of-two", a->opt.power_of_two,
                "Atlas sides as powers of two (default: multiples of 4)");
-  app.add_option("--image-format", a->image_format, "keep, png or jpeg")
-      ->default_val("keep")
+  app.add_option("--image-format", a->opt.image_format, "keep, png or jpeg")
       ->check(CLI::IsMember({"keep", "png", "jpeg"}));
   app.add_option("--jpeg-quality", a->opt.jpeg_quality,
                  "JPEG quality of warped images; 0 matches the source's")
-      ->default_val(0)
       ->check(CLI::Range(0, 100));
   app.add_option(
          "--min-psnr", a->opt.min_psnr,
@@ -131,30 +146,25 @@ Runner add_encode(CLI::App& app) {
          "--goal-psnr", a->opt.goal_psnr,
          "Quality goal in dB of the adaptive density: while the atlas is no larger than the source images "
          "it replaces, texels are not halved below it; 0: trade quality for bytes down to --min-psnr")
-      ->default_val(40.0)
       ->check(CLI::Range(0.0, 99.0));
   app.add_flag(
-      "--fixed-density", a->fixed_density,
+      "!--fixed-density", a->opt.adaptive_density,
       "Keep every patch at its measured density (default: patches whose content is smooth have their "
       "texels halved, up to six times, while the atlas keeps --min-psnr plus 0.5 dB)");
-  app.add_flag("--always-implicit", a->always_implicit,
+  app.add_flag("!--always-implicit", a->opt.quality_fallback,
                "Never fall back to explicit UVs, for quality or for size (still raise the density to meet "
                "--min-psnr)");
-  app.add_flag("--explicit-uvs", a->explicit_uvs, "Keep TEXCOORD_0 explicit (plain Draco for everything)");
+  app.add_flag("!--explicit-uvs", a->opt.implicit_uvs,
+               "Keep TEXCOORD_0 explicit (plain Draco for everything)");
   app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")
-      ->default_val(14)
       ->check(CLI::Range(1, 30));
   app.add_option("--normal-bits", a->opt.draco.normal_bits, "Draco normal quantization")
-      ->default_val(10)
       ->check(CLI::Range(1, 30));
   app.add_option("--color-bits", a->opt.draco.color_bits, "Draco colour quantization")
-      ->default_val(8)
       ->check(CLI::Range(1, 30));
   app.add_option("--texcoord-bits", a->opt.draco.texcoord_bits, "Draco texcoord quantization (other sets)")
-      ->default_val(12)
       ->check(CLI::Range(1, 30));
   app.add_option("--generic-bits", a->opt.draco.generic_bits, "Draco generic attribute quantization")
-      ->default_val(12)
       ->check(CLI::Range(1, 30));
   app.add_flag("-q,--quiet", a->quiet, "Print nothing on success");
   return [a]() {
@@ -162,16 +172,10 @@ Runner add_encode(CLI::App& app) {
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
     opt.mixed_layout = a->layout == "mixed";
-    opt.keep_source_charts = !a->cross_source_seams;
-    opt.cross_hidden_seams = !a->keep_hidden_seams;
-    opt.implicit_uvs = !a->explicit_uvs;
-    opt.quality_fallback = !a->always_implicit;
-    opt.adaptive_density = !a->fixed_density;
-    opt.image_format = a->image_format;
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile
                                                   : DensityMode::preserve_texel_count;
-    if (a->texel_density != "auto") {
+    if (a->texel_density != density_text(EncodeOptions{})) {
       const bool relative = !a->texel_density.empty() && a->texel_density.back() == 'x';
       double value = 0;
       try {

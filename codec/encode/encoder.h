@@ -57,17 +57,18 @@ struct EncodeOptions {
   // texels (two scale steps) while the group keeps the floor plus 0.5 dB.
   bool adaptive_density = true;
   // Halvings a patch may get (each round: two scale steps). Rounds stop early
-  // once one no longer shrinks the images. Duck: 2 rounds 15.6 KB at 42.4 dB,
-  // 3 rounds 11.9 KB, 6 rounds 6.9 KB at 41.8 dB; the truck and the Fox stop
-  // after their first rounds (no headroom above the floor).
+  // once one no longer shrinks the images: smooth content (the Duck) keeps
+  // shrinking over several rounds for a fraction of a dB, while models with
+  // no headroom above the floor stop after the first (benchmarks/results/).
   int adaptive_rounds = 6;
   // Quality goal (dB) of the adaptive density: while a group's images are
   // no larger than the source images they replace, a round may not take
   // the atlas below this goal, nor lower at all if it is already under it
   // (min_psnr + 0.5 still bounds every round). Bytes are traded down to the
   // floor only while the atlas outweighs its sources. 0: always down to the
-  // floor. Fox: 18.9 KB at 38.5 dB without the goal, 20.8 KB (its source:
-  // 26.8) at 39.6 dB with it; MultiUVTest 3.3 KB at 38.7 dB, 3.8 at 40.6.
+  // floor. The goal spends a few hundred bytes, where the atlas is already
+  // smaller than its sources, on a dB or two (Fox, MultiUVTest; figures:
+  // benchmarks/results/results.md).
   double goal_psnr = 40.0;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };

@@ -77,8 +77,9 @@ std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const 
 // what the atlas must match. The largest singular value alone never minifies
 // but pays full density along a source's coarse direction; the area scale
 // alone keeps the texel count but blurs the fine direction of anisotropic
-// maps (measured on Duck: 41.3 dB at 34 KB, against 41.3 at 43 KB and 39.1 at
-// 32 KB). 0 for faces degenerate in either space.
+// maps (on the Duck, the mean keeps the quality of the largest value at
+// fewer bytes, and the area scale alone loses it; figures: scripts/bench,
+// benchmarks/results/). 0 for faces degenerate in either space.
 std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height);
 

@@ -46,20 +46,20 @@ struct EmbedOptions {
   // have less source detail than that patch joins it, since they only gain
   // texels there (stretched source UVs left the Duck with 4 such holes).
   std::span<const double> face_density;  // empty, or one per face
-  // > 1; <= 1 or not finite disables the rule. Duck (tau 1.3): 4 gives 83
-  // patches and 810 seams, 8 gives 50 and 642 at the same 41.5 dB and bytes;
-  // 32 drops to 38.3 dB and off to 21 dB (eyes and body share patches whose
-  // median density minifies the eyes).
+  // > 1; <= 1 or not finite disables the rule. A low ratio costs patches and
+  // seams for no quality; a high one (or none) lets the Duck's eyes and body
+  // share patches whose median density minifies the eyes, and its PSNR
+  // falls (figures: scripts/bench, benchmarks/results/).
   double max_density_ratio = 8.0;
   // Compact: the source UV chart of each face (source_charts.h), or empty.
   // When given, no patch holds faces of two charts, so no patch crosses a
   // source UV seam (the viewer would blend two unrelated source regions
-  // along it). Measured at tau 1.3 (the encoder then relaxes the density
-  // rule to 32x): CesiumMilkTruck images 584 -> 284 KB at the 38 dB floor
-  // (patches no longer blur its decals and panel edges, so the adaptive
-  // density halves more of them), Fox 48 -> 44 KB; seams Duck 625 -> 557,
-  // Fox 143 -> 176, truck 616 -> 711. Seams inside one chart (a chart cut
-  // by a slit, like a cylinder's) are not enforced.
+  // along it). The encoder then relaxes the density rule to 32x. Images
+  // shrink at the quality floor (patches no longer blur decals and panel
+  // edges, so the adaptive density halves more of them), for a few more
+  // seams on some models (figures: benchmarks/results/results.md, images
+  // and patches columns). Seams inside one chart (a chart cut by a slit,
+  // like a cylinder's) are not enforced.
   std::span<const uint32_t> face_chart;
   // Compact: after the partition, merge adjacent patches into patches laid
   // out by the solve method (format 1.2, solve_merge.h) where the decoder's

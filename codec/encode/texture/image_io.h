@@ -41,9 +41,9 @@ struct ImageEncodeOptions {
   int png_compression = 9;             // zlib level 0..9
   // PNG: also encode with every row unfiltered and keep the smaller file.
   // libpng's adaptive filter choice suits photographs; flat-coloured art
-  // (and warped atlases of it) often codes far smaller unfiltered: Fox's
-  // atlas 43.7 -> 32.0 KB, DuckCM 27.7 -> 22.1 KB, while TwoSidedPlane's
-  // base colour goes the other way (54.7 against 70.6 KB).
+  // (and warped atlases of it, like the Fox's) often codes far smaller
+  // unfiltered, while photographic textures (TwoSidedPlane's base colour) go
+  // the other way (image bytes: benchmarks/results/results.md).
   bool png_try_unfiltered = true;
 };
 

@@ -56,10 +56,9 @@ enum class EmptyFill : uint8_t {
   mean,  // the mean covered colour: flat, nearly free in PNG
   // A pull-push fill (codec/encode/texture/atlas_fill.h): smooth continuations of the
   // nearby patches. For JPEG: no step at patch outlines to spend
-  // coefficients on. Measured on the corpus with its PNGs turned into JPEG
-  // q85: images Duck -16%, Fox -20%, MultiUVTest -16%, and the truck's
-  // atlas beats its source (-14% file) where the flat fill fell back to
-  // explicit UVs; PSNR the same or higher. As PNG it costs 14-40% more.
+  // coefficients on: smaller JPEG atlases at the same or higher PSNR
+  // (benchmarks/results/jpeg85: the corpus with its PNGs turned into JPEG
+  // q85). As PNG it costs more than the flat mean, so PNG keeps `mean`.
   pull_push,
 };
 
