@@ -40,6 +40,7 @@
 #include "codec/core/geometry2d.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
+#include "codec/encode/partition/patch_pairs.h"
 #include "codec/encode/partition/solve_merge.h"
 
 namespace gltfwarp {
@@ -749,33 +750,12 @@ void merge_patches(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& o
   std::vector<double> saved;
   uint32_t next_label = 0;
   for (uint32_t f : g.region) next_label = std::max(next_label, f == kNone ? 0 : f + 1);
-  struct Pair {
-    uint32_t a, b, shared;
-  };
   std::vector<uint64_t> keys;
-  std::vector<Pair> pairs;
+  std::vector<PatchPair> pairs;
   for (int round = 1; round <= opt.merge_rounds; ++round) {
-    keys.clear();
-    for (size_t c = 0; c < opp.size(); ++c) {
-      const uint32_t o = opp[c];
-      if (o == kNone || o < c) continue;
-      uint32_t a = g.face_patch[c / 3], b = g.face_patch[o / 3];
-      if (a == b) continue;
-      if (a > b) std::swap(a, b);
-      keys.push_back((uint64_t(a) << 32) | b);
-    }
-    std::sort(keys.begin(), keys.end());
-    pairs.clear();
-    for (size_t i = 0; i < keys.size();) {
-      size_t j = i;
-      while (j < keys.size() && keys[j] == keys[i]) ++j;
-      pairs.push_back({uint32_t(keys[i] >> 32), uint32_t(keys[i]), uint32_t(j - i)});
-      i = j;
-    }
-    std::stable_sort(pairs.begin(), pairs.end(),
-                     [](const Pair& l, const Pair& r) { return l.shared > r.shared; });
+    adjacent_patch_pairs(opp, g.face_patch, keys, pairs);
     bool merged_any = false;
-    for (const Pair& pr : pairs) {
+    for (const PatchPair& pr : pairs) {
       if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
       // A pair that failed is not retried until one side has changed.
       if (budget < double(patches[pr.a].size() + patches[pr.b].size())) return;

@@ -13,6 +13,7 @@
 #include "codec/core/layout.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
+#include "codec/encode/partition/patch_pairs.h"
 
 namespace gltfwarp {
 namespace {
@@ -110,33 +111,12 @@ size_t solve_merge(const TriMesh& mesh, std::span<const uint32_t> opp,
   std::vector<double> saved;
   SolveScratch ss;
   size_t merges = 0;
-  struct Pair {
-    uint32_t a, b, shared;
-  };
   std::vector<uint64_t> keys;
-  std::vector<Pair> pairs;
+  std::vector<PatchPair> pairs;
   for (int round = 1; round <= opt.rounds; ++round) {
-    keys.clear();
-    for (size_t c = 0; c < opp.size(); ++c) {
-      const uint32_t o = opp[c];
-      if (o == kNone || o < c) continue;
-      uint32_t a = patch_of[c / 3], b = patch_of[o / 3];
-      if (a == b || a == kNone || b == kNone) continue;
-      if (a > b) std::swap(a, b);
-      keys.push_back((uint64_t(a) << 32) | b);
-    }
-    std::sort(keys.begin(), keys.end());
-    pairs.clear();
-    for (size_t i = 0; i < keys.size();) {
-      size_t j = i;
-      while (j < keys.size() && keys[j] == keys[i]) ++j;
-      pairs.push_back({uint32_t(keys[i] >> 32), uint32_t(keys[i]), uint32_t(j - i)});
-      i = j;
-    }
-    std::stable_sort(pairs.begin(), pairs.end(),
-                     [](const Pair& l, const Pair& r) { return l.shared > r.shared; });
+    adjacent_patch_pairs(opp, patch_of, keys, pairs);
     bool merged_any = false;
-    for (const Pair& pr : pairs) {
+    for (const PatchPair& pr : pairs) {
       if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
       std::vector<uint32_t>& A = patches[pr.a];
       std::vector<uint32_t>& B = patches[pr.b];
