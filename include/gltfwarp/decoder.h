@@ -6,8 +6,9 @@
 //   tinygltf::Model model;
 //   gltfwarp::GltfReadResult r = gltfwarp::read_gltf("in.glb", model);
 //   gltfwarp::DecodeReport report;
-//   std::string error = r.ok ? gltfwarp::decode_model(model, {}, report) : r.error;
-//   if (error.empty()) error = gltfwarp::write_gltf(model, "out.glb");
+//   if (!r.ok) return fail(r.error);
+//   if (gltfwarp::Error e = gltfwarp::decode_model(model, {}, report); e.failed()) return fail(e.message);
+//   if (std::string e = gltfwarp::write_gltf(model, "out.glb"); !e.empty()) return fail(e);
 #pragma once
 
 #include "codec/decode/decoder.h"  // decode_model, DecodeOptions, DecodeReport

@@ -4,8 +4,9 @@
 //
 //   tinygltf::Model model;  // from gltfwarp::read_gltf (decoder.h)
 //   gltfwarp::EncodeReport report;
-//   std::string error = gltfwarp::encode_model(model, gltfwarp::EncodeOptions{}, report);
-//   if (error.empty()) error = gltfwarp::write_gltf(model, "out.glb");
+//   gltfwarp::Error e = gltfwarp::encode_model(model, gltfwarp::EncodeOptions{}, report);
+//   if (e.failed()) return fail(e.message);  // e.code: invalid_input or internal (codec/core/error.h)
+//   if (std::string w = gltfwarp::write_gltf(model, "out.glb"); !w.empty()) return fail(w);
 #pragma once
 
 #include "codec/encode/encoder.h"  // encode_model, EncodeOptions, EncodeReport

@@ -15,7 +15,9 @@ int main(int argc, char** argv) {
   tinygltf::Model model;
   const gltfwarp::GltfReadResult r = gltfwarp::read_gltf(argv[1], model);
   gltfwarp::DecodeReport report;
-  std::string error = r.ok ? gltfwarp::decode_model(model, {}, report) : r.error;
+  std::string error = r.error;
+  if (r.ok)
+    if (const gltfwarp::Error e = gltfwarp::decode_model(model, {}, report); e.failed()) error = e.message;
   if (error.empty()) error = gltfwarp::write_gltf(model, argv[2]);
   if (!error.empty()) std::fprintf(stderr, "%s\n", error.c_str());
   std::printf("uv maps rebuilt: %zu\n", report.uv_maps_rebuilt);

@@ -10,7 +10,11 @@ int main(int argc, char** argv) {
   tinygltf::Model model;
   const gltfwarp::GltfReadResult r = gltfwarp::read_gltf(argv[1], model);
   gltfwarp::EncodeReport report;
-  std::string error = r.ok ? gltfwarp::encode_model(model, gltfwarp::EncodeOptions{}, report) : r.error;
+  std::string error = r.error;
+  if (r.ok)
+    if (const gltfwarp::Error e = gltfwarp::encode_model(model, gltfwarp::EncodeOptions{}, report);
+        e.failed())
+      error = e.message;
   if (error.empty()) error = gltfwarp::write_gltf(model, argv[2]);
   if (!error.empty()) std::fprintf(stderr, "%s\n", error.c_str());
   const auto& used = model.extensionsUsed;
