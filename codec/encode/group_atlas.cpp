@@ -6,16 +6,29 @@
 #include "codec/encode/texture/image_io.h"
 
 namespace gltfwarp {
+namespace {
+
+// The stages a full build and a measuring round share: patch numbers,
+// density, packing (with the round's effort) and the bitstreams.
+Error lay_out_group(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                    const EncodeOptions& options, double density_factor, const StepBias& step_bias,
+                    PackEffort effort, GroupAtlas& out) {
+  out = GroupAtlas{};
+  number_patches(plan, group, out);
+  const GroupDensity density = choose_density(model, plan, group, options, density_factor);
+  if (Error e = pack_group(plan, group, options, density, step_bias, effort, out); e.failed()) return e;
+  return write_streams(plan, group, options, out);
+}
+
+}  // namespace
 
 Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                         const EncodeOptions& options, SourceImages& sources, double density_factor,
                         const StepBias& step_bias, GroupAtlas& out) {
-  out = GroupAtlas{};
-  number_patches(plan, group, out);
-  const GroupDensity density = choose_density(model, plan, group, options, density_factor);
-  if (Error e = pack_group(plan, group, options, density, step_bias, PackEffort::tightest, out); e.failed())
+  if (Error e =
+          lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::tightest, out);
+      e.failed())
     return e;
-  if (Error e = write_streams(plan, group, options, out); e.failed()) return e;
   for (const SlotSource& source : slot_sources(model, group)) {
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
@@ -59,12 +72,10 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
 Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                           const EncodeOptions& options, SourceImages& sources, double density_factor,
                           const StepBias& step_bias, GroupAtlas& out) {
-  out = GroupAtlas{};
-  number_patches(plan, group, out);
-  const GroupDensity density = choose_density(model, plan, group, options, density_factor);
-  if (Error e = pack_group(plan, group, options, density, step_bias, PackEffort::one_order, out); e.failed())
+  if (Error e =
+          lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::one_order, out);
+      e.failed())
     return e;
-  if (Error e = write_streams(plan, group, options, out); e.failed()) return e;
   for (const SlotSource& source : slot_sources(model, group)) {
     if (source.slot.normal_map) continue;  // measured on colour slots only
     SourceImage* decoded = nullptr;
