@@ -1,6 +1,7 @@
 #include "apps/report_format.h"
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 namespace gltfwarp::cli {
@@ -14,7 +15,7 @@ std::string primitive_name(int mesh, int primitive) {
 }  // namespace
 
 std::string fallback_text(const Fallback& f) {
-  char line[256];
+  char line[512];
   switch (f.reason) {
     case FallbackReason::none:
       return "no reason given";
@@ -32,11 +33,25 @@ std::string fallback_text(const Fallback& f) {
                     f.density_factor, f.capped ? " (held by --max-atlas-size)" : "", f.min_psnr);
       return line;
     case FallbackReason::explicit_smaller:
-      std::snprintf(
-          line, sizeof line,
-          "smaller: %zu bytes of geometry and images, against %zu with the implicit map and a %.1f dB "
-          "atlas",
-          f.explicit_bytes, f.implicit_bytes, f.psnr);
+      if (f.explicit_jpeg_quality > 0)
+        std::snprintf(line, sizeof line,
+                      "smaller at equal quality: %zu bytes of geometry and source images as JPEG q%d "
+                      "(%.1f dB), against %zu with the implicit map and a %.1f dB atlas",
+                      f.explicit_bytes, f.explicit_jpeg_quality, f.explicit_psnr, f.implicit_bytes, f.psnr);
+      if (f.images_as_jpeg > 0)
+        std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
+                      "; the source images written as JPEG q%d, as asked", f.images_as_jpeg);
+      else
+        std::snprintf(line, sizeof line,
+                      "smaller: %zu bytes of geometry and the source images as they are, against %zu with "
+                      "the implicit map and a %.1f dB atlas",
+                      f.explicit_bytes, f.implicit_bytes, f.psnr);
+      return line;
+    case FallbackReason::texture_repeats:
+      std::snprintf(line, sizeof line,
+                    "the UVs repeat the texture %.3gx (%.3g texels counted per use, %.3g in the images): the "
+                    "atlas would store every repeat",
+                    f.image_texels > 0 ? f.texel_uses / f.image_texels : 0.0, f.texel_uses, f.image_texels);
       return line;
   }
   return "?";
@@ -131,6 +146,20 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
           "least-squares texels +%.2f dB (%.2f s)\n",
           a.mip_psnr[0], a.mip_psnr[1], a.mip_psnr[2], a.mip_psnr[3], a.worst_psnr[0], a.worst_psnr[1],
           a.worst_psnr[2], a.worst_psnr[3], a.fit_gain_db, a.fit_seconds);
+    if (a.explicit_bytes > 0) {
+      if (a.explicit_jpeg_quality > 0)
+        std::printf(
+            "  with explicit UVs at equal quality: %zu bytes (source images as JPEG q%d, %.1f dB); "
+            "implicit: %zu bytes (%.1f dB), %+.1f%%\n",
+            a.explicit_bytes, a.explicit_jpeg_quality, a.explicit_psnr, a.file_bytes, a.psnr,
+            100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
+      else
+        std::printf(
+            "  with explicit UVs: %zu bytes (source images as they are, lossless); implicit: %zu bytes "
+            "(%.1f dB), %+.1f%%\n",
+            a.explicit_bytes, a.file_bytes, a.psnr,
+            100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
+    }
     if (a.atlas_image_bytes > a.source_image_bytes)
       larger += (larger.empty() ? "" : ", ") + std::to_string(i);
   }

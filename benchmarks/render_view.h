@@ -29,6 +29,7 @@
 
 #include <tiny_gltf.h>
 
+#include "codec/encode/texture/texel_reach.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
@@ -195,7 +196,10 @@ struct Camera {
 // The draw list of a model: base colour textures sampled through TEXCOORD_0.
 class Scene {
  public:
-  explicit Scene(const tinygltf::Model& m) {
+  // fill_unreached: the reference's textures get their unused texels
+  // filled from the charts first (texel_reach.h), so the source's own chart
+  // bleed at minified levels is not counted against either encoding.
+  explicit Scene(const tinygltf::Model& m, bool fill_unreached = false) {
     for (const auto& [mesh, world] : mesh_instances(m))
       for (const auto& p : m.meshes[size_t(mesh)].primitives) {
         if (!is_triangle_mode(p.mode) || p.material < 0) continue;
@@ -204,14 +208,14 @@ class Scene {
         for (const auto& s : slots)
           if (s.extension.empty() && s.key == "baseColorTexture" && s.tex_coord == 0) base = &s;
         if (!base) continue;
-        const MipTexture* tex = texture(m, *base);
+        const TextureSampler* tex = texture(m, *base);
         if (!tex) continue;
         PrimitiveGeometry g;
         if (!read_primitive(m, p, g).empty()) continue;
         const VertexAttribute *pos = g.find("POSITION"), *uv = g.find("TEXCOORD_0");
         if (!pos || !uv) continue;
         Draw d;
-        d.tex = tex;
+        d.texture = base->texture;
         d.transform = base->transform;
         const std::vector<float> pf = pos->to_floats(), uf = uv->to_floats();
         d.pos.resize(pf.size());
@@ -223,6 +227,23 @@ class Scene {
         d.tris = g.triangles;
         draws_.push_back(std::move(d));
       }
+    for (auto& [index, sampler] : samplers_) {
+      if (!sampler) continue;
+      if (fill_unreached) {
+        TexelReach reach(*sampler);
+        for (const Draw& d : draws_)
+          if (d.texture == index) {
+            std::vector<float> faces;
+            faces.reserve(d.tris.size() * 2);
+            for (uint32_t v : d.tris)
+              if (2 * size_t(v) + 1 < d.uv.size()) faces.insert(faces.end(), {d.uv[2 * v], d.uv[2 * v + 1]});
+            if (faces.size() == d.tris.size() * 2) reach.add_triangles(faces, d.transform);
+          }
+        reach.fill_unreached(*sampler);
+      }
+      textures_[index] = std::make_unique<MipTexture>(*sampler);
+    }
+    for (Draw& d : draws_) d.tex = textures_[d.texture].get();
   }
 
   bool empty() const { return draws_.empty(); }
@@ -319,17 +340,18 @@ class Scene {
 
  private:
   struct Draw {
+    int texture = -1;
     const MipTexture* tex = nullptr;
     std::array<double, 6> transform{};
     std::vector<double> pos;
     std::vector<float> uv;
     std::vector<uint32_t> tris;
   };
-  const MipTexture* texture(const tinygltf::Model& m, const TextureSlot& s) {
-    auto it = textures_.find(s.texture);
-    if (it != textures_.end()) return it->second.get();
+  const TextureSampler* texture(const tinygltf::Model& m, const TextureSlot& s) {
+    auto it = samplers_.find(s.texture);
+    if (it != samplers_.end()) return it->second.get();
     // The image's bytes: its own, or its bufferView's (a decoded model holds them there).
-    std::unique_ptr<MipTexture> mip;
+    std::unique_ptr<TextureSampler> loaded;
     if (const int im = texture_image(m, s.texture); im >= 0) {
       const tinygltf::Image& image = m.images[size_t(im)];
       std::vector<uint8_t> bytes = image.image;
@@ -340,15 +362,16 @@ class Scene {
       }
       int wrap_s = 0, wrap_t = 0;
       texture_wraps(m, s.texture, wrap_s, wrap_t);
-      TextureSampler t;  // the slot's transform is applied per vertex, in render()
+      auto t = std::make_unique<TextureSampler>();  // the slot's transform is applied per vertex, in render()
       if (load_texture_sampler(bytes, s.color_space == ColorSpace::srgb, wrap_s, wrap_t, {1, 0, 0, 0, 1, 0},
-                               t)
+                               *t)
               .empty() &&
-          t.ok)
-        mip = std::make_unique<MipTexture>(t);
+          t->ok)
+        loaded = std::move(t);
     }
-    return (textures_[s.texture] = std::move(mip)).get();
+    return (samplers_[s.texture] = std::move(loaded)).get();
   }
+  std::map<int, std::unique_ptr<TextureSampler>> samplers_;
   std::map<int, std::unique_ptr<MipTexture>> textures_;
   std::vector<Draw> draws_;
 };

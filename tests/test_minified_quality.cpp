@@ -30,12 +30,13 @@ TEST(CorpusMinified, TruckHoldsItsQualityAtEveryMipLevel) {
   ASSERT_FALSE(encode_model(model, o, report).failed());
   ASSERT_EQ(report.atlases.size(), 1u);
   const AtlasReport& a = report.atlases[0];
-  // Floors from the measured figures (2026-12-01, point-sampled texels:
-  // mean 37.0/33.8/25.4/20.0 dB, worst 1% 23.9/24.5/22.9/15.4 dB) less
-  // about 2 dB (mean) and 3 dB (worst region): noise passes, while a streak
-  // or a gutter that runs out (a few wrong texels along a patch edge)
-  // sinks the worst region by far more.
-  const double mean_floor[4] = {35, 31.5, 23, 18}, worst_floor[4] = {21, 21.5, 20, 12.5};
+  // Floors from the measured figures (2026-12-01, point-sampled texels,
+  // against the source with its unreached texels filled: mean
+  // 37.0/37.0/34.8/29.7 dB, worst 1% 23.3/24.4/23.2/21.0 dB) less about 2 dB
+  // (mean) and 3 dB (worst region): noise passes, while a streak or a gutter
+  // that runs out (a few wrong texels along a patch edge) sinks the worst
+  // region by far more.
+  const double mean_floor[4] = {35, 35, 32.5, 27.5}, worst_floor[4] = {20.5, 21.5, 20, 18};
   for (int l = 0; l < 4; ++l) {
     std::printf("truck mip %d: mean %.2f dB, worst 1%% %.2f dB\n", l, a.mip_psnr[l], a.worst_psnr[l]);
     EXPECT_GE(a.mip_psnr[l], mean_floor[l]) << "level " << l;

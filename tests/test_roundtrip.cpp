@@ -409,12 +409,19 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   model.images[0].image.assign(jpeg.begin(), jpeg.end());
   model.images[0].mimeType = "image/jpeg";
   EncodeOptions o;
+  // Measure the atlas itself: at equal quality the source re-encoded as a
+  // lower-quality JPEG is smaller, so by default the Duck keeps explicit UVs
+  // (FallbackComparesFilesAtEqualQuality checks that choice).
+  o.quality_fallback = false;
   EncodeReport report;
   ASSERT_EQ(encode_model(model, o, report).message, "");
   ASSERT_EQ(report.atlases.size(), 1u);
   const auto& atlas = report.atlases[0];
-  std::printf("JPEG Duck: images %zu -> %zu bytes, %.2f dB\n", atlas.source_image_bytes,
-              atlas.atlas_image_bytes, atlas.psnr);
+  std::printf(
+      "JPEG Duck: images %zu -> %zu bytes, %.2f dB; explicit UVs at equal quality %zu bytes (q%d), "
+      "implicit %zu\n",
+      atlas.source_image_bytes, atlas.atlas_image_bytes, atlas.psnr, atlas.explicit_bytes,
+      atlas.explicit_jpeg_quality, atlas.file_bytes);
   EXPECT_LE(atlas.atlas_image_bytes, atlas.source_image_bytes);
   EXPECT_GE(atlas.psnr, 38.0);
   bool jpeg_atlas = false;
@@ -464,6 +471,39 @@ TEST(GeneratedRoundTrip, TextureTransformScaleKeepsTheDensity) {
   std::printf("atlas %ux%u plain, %ux%u squeezed\n", a.width, a.height, b.width, b.height);
   EXPECT_GT(ratio, 0.7);
   EXPECT_LT(ratio, 1.4);
+}
+
+// Issue 16, item 5: UVs that tile the texture (a cloth repeating its
+// texture many times) would make an atlas of every repeat, many times the
+// texels the source stores once. The encoder sees that from the UVs alone,
+// before the costly steps, and keeps explicit UVs, saying why; the same
+// model untiled is not caught by it.
+TEST(GeneratedRoundTrip, TiledUvsKeepExplicitUvsBeforeTheWarp) {
+  for (const float repeats : {1.0f, 24.0f}) {
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
+    const tinygltf::Accessor& acc =
+        model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
+    ASSERT_EQ(acc.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
+    const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
+    ASSERT_TRUE(view.byteStride == 0 || view.byteStride == 8);
+    auto* uv =
+        reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
+    for (size_t i = 0; i < 2 * acc.count; ++i) uv[i] *= repeats;
+    EncodeReport report;
+    ASSERT_EQ(encode_model(model, EncodeOptions{}, report).message, "");
+    ASSERT_EQ(report.primitives.size(), 1u);
+    const PrimitiveReport& p = report.primitives[0];
+    if (repeats > 1) {
+      ASSERT_EQ(p.handling, Handling::fallback);
+      EXPECT_EQ(p.fallback.reason, FallbackReason::texture_repeats);
+      EXPECT_GT(p.fallback.texel_uses, 4.0 * p.fallback.image_texels);
+      EXPECT_EQ(p.fallback.image_texels, 256.0 * 256.0);
+      EXPECT_TRUE(report.atlases.empty()) << "no atlas was built";
+    } else {
+      EXPECT_NE(p.fallback.reason, FallbackReason::texture_repeats);
+    }
+  }
 }
 
 // A primitive whose atlas cannot reach the quality floor even at twice the
@@ -607,6 +647,51 @@ TEST(CorpusRoundTrip, HiddenSourceSeamsAreCrossed) {
   }
   std::printf("Fox seams: %zu inside every source chart, %zu crossing hidden seams\n", seams[0], seams[1]);
   EXPECT_LT(double(seams[1]), 0.9 * double(seams[0]));
+}
+
+// Issue 16, honest reports: with a lossy image coder the encoder prices the
+// explicit-UV file at the atlas's own quality (the source re-encoded with the
+// same coder, its JPEG quality searched), and keeps whichever is smaller.
+// The alternative reaches the atlas's PSNR, and the choice follows the bytes.
+TEST(CorpusRoundTrip, FallbackComparesFilesAtEqualQuality) {
+  GLTFWARP_REQUIRE_CORPUS();
+  const std::string path = corpus_path("Duck");
+  ASSERT_FALSE(path.empty());
+  for (const int q : {40, 90}) {
+    tinygltf::Model model;
+    ASSERT_TRUE(read_gltf(path, model).ok);
+    EncodeOptions o;
+    o.image_format = "jpeg";
+    o.jpeg_quality = q;
+    o.quality_fallback = false;  // keep the atlas, to read its figures
+    EncodeReport report;
+    ASSERT_EQ(encode_model(model, o, report).message, "");
+    ASSERT_EQ(report.atlases.size(), 1u);
+    const AtlasReport& a = report.atlases[0];
+    ASSERT_GT(a.explicit_bytes, 0u);
+    ASSERT_GT(a.file_bytes, a.atlas_image_bytes);
+    ASSERT_GT(a.explicit_jpeg_quality, 0) << "a JPEG atlas is priced against JPEG sources";
+    EXPECT_GE(a.explicit_psnr, a.psnr) << "the alternative is at least as good as the atlas";
+    std::printf("Duck jpeg q%d: implicit %zu bytes at %.2f dB, explicit %zu at %.2f dB (q%d)\n", q,
+                a.file_bytes, a.psnr, a.explicit_bytes, a.explicit_psnr, a.explicit_jpeg_quality);
+    // The same encode with the choice on keeps the smaller of the two.
+    tinygltf::Model again;
+    ASSERT_TRUE(read_gltf(path, again).ok);
+    o.quality_fallback = true;
+    EncodeReport chosen;
+    ASSERT_EQ(encode_model(again, o, chosen).message, "");
+    bool fell_back = false;
+    for (const PrimitiveReport& p : chosen.primitives)
+      if (p.handling == Handling::fallback) {
+        fell_back = true;
+        EXPECT_EQ(p.fallback.reason, FallbackReason::explicit_smaller);
+        EXPECT_GT(p.fallback.implicit_bytes, p.fallback.explicit_bytes);
+      }
+    EXPECT_EQ(fell_back, a.file_bytes > a.explicit_bytes) << "q" << q;
+    if (fell_back) {  // asked for JPEG, the images are JPEG with explicit UVs too
+      for (const tinygltf::Image& img : again.images) EXPECT_EQ(img.mimeType, "image/jpeg");
+    }
+  }
 }
 
 // The quality floor is checked on the texels the file holds: a JPEG atlas

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "codec/encode/atlas/texel_density.h"
+#include "codec/encode/explicit_alternative.h"
 #include "codec/encode/group_atlas.h"
 #include "codec/encode/implicit_uv_encoder.h"
 #include "codec/encode/texture/image_io.h"
@@ -186,8 +187,8 @@ size_t explicit_geometry_bytes(const tinygltf::Model& model, const ImplicitPrimi
 // images whose every use, in every material, is a TEXCOORD_0 slot of one of
 // the group's materials. An image that something else samples stays in the
 // file whatever the group does.
-size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group,
-                                const GroupAtlas& built) {
+std::set<int> replaceable_images(const tinygltf::Model& model, const AtlasGroup& group,
+                                 const GroupAtlas& built) {
   std::set<int> images;
   for (const WarpJob& job : built.jobs) images.insert(job.image);
   for (int m = 0; m < int(model.materials.size()); ++m) {
@@ -195,8 +196,13 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
     for (const TextureSlot& slot : texture_slots(model, m))
       if (!ours || slot.tex_coord != 0) images.erase(texture_image(model, slot.texture));
   }
+  return images;
+}
+
+size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& group,
+                                const GroupAtlas& built) {
   size_t bytes = 0;
-  for (int i : images) bytes += model.images[i].image.size();
+  for (int i : replaceable_images(model, group, built)) bytes += model.images[i].image.size();
   return bytes;
 }
 
@@ -358,30 +364,51 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
-    // The method exists to save bytes: when the atlas and the bitstreams
-    // cost more than the source images and explicit UVs would (fine text,
-    // tiny quads carrying big images), keep the explicit UVs.
-    if (options.quality_fallback) {
-      size_t implicit_bytes = built.report.atlas_image_bytes;
-      size_t explicit_bytes = replaceable_source_bytes(model, group, built);
-      for (size_t k = 0; k < group.members.size(); ++k) {
-        const ImplicitPrimitive& ip = plan.prims[group.members[k]];
-        implicit_bytes += report.primitives[ip.report_index].geometry_bytes + built.bitstreams[k].size();
-      }
-      // Explicit geometry costs a Draco encode to measure; skip it when the
-      // saved images alone already outweigh everything the map costs.
-      if (implicit_bytes > explicit_bytes)
-        for (size_t m : group.members)
-          explicit_bytes += explicit_geometry_bytes(model, plan.prims[m], options);
-      if (implicit_bytes > explicit_bytes) {
-        Fallback why;
-        why.reason = FallbackReason::explicit_smaller;
-        why.explicit_bytes = explicit_bytes;
-        why.implicit_bytes = implicit_bytes;
-        why.psnr = built.floor_psnr();
-        if (Error e = keep_explicit(group, why); e.failed()) return e;
-        continue;
-      }
+    // The method exists to save bytes at equal quality: when explicit UVs
+    // with the source images at the atlas's quality (explicit_alternative.h)
+    // cost no more than the map and the atlas, keep the explicit UVs. The
+    // figures go in the report either way.
+    size_t implicit_bytes = built.report.atlas_image_bytes, explicit_bytes = 0;
+    for (size_t k = 0; k < group.members.size(); ++k) {
+      const ImplicitPrimitive& ip = plan.prims[group.members[k]];
+      implicit_bytes += report.primitives[ip.report_index].geometry_bytes + built.bitstreams[k].size();
+      explicit_bytes += explicit_geometry_bytes(model, ip, options);
+    }
+    EqualQualityImages alternative;
+    if (Error e =
+            equal_quality_images(model, plan, group, built, options, sources,
+                                 replaceable_images(model, group, built), built.floor_psnr(), alternative);
+        e.failed())
+      return e;
+    explicit_bytes += alternative.bytes;
+    built.report.file_bytes = implicit_bytes;
+    built.report.explicit_bytes = explicit_bytes;
+    built.report.explicit_psnr = alternative.psnr;
+    built.report.explicit_jpeg_quality = alternative.jpeg_quality;
+    if (options.quality_fallback && implicit_bytes > explicit_bytes) {
+      Fallback why;
+      why.reason = FallbackReason::explicit_smaller;
+      why.explicit_bytes = explicit_bytes;
+      why.implicit_bytes = implicit_bytes;
+      why.psnr = built.floor_psnr();
+      why.explicit_psnr = alternative.psnr;
+      why.explicit_jpeg_quality = alternative.jpeg_quality;
+      // Asked for JPEG images, the user gets them with explicit UVs too, at
+      // the quality asked (the images only this group samples).
+      if (options.image_format == "jpeg")
+        for (const auto& [image, quality] : alternative.lossy_quality) {
+          SourceImage* decoded = nullptr;
+          if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+          std::vector<uint8_t> bytes;
+          std::string err;
+          if (!encode_image(decoded->pixels, "image/jpeg", quality, bytes, err))
+            return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+          model.images[size_t(image)].image = std::move(bytes);
+          model.images[size_t(image)].mimeType = "image/jpeg";
+          why.images_as_jpeg = quality;
+        }
+      if (Error e = keep_explicit(group, why); e.failed()) return e;
+      continue;
     }
     commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }

@@ -34,6 +34,7 @@ enum class FallbackReason {
   embedding_failed,          // the partition failed (Fallback::layout)
   below_quality_floor,       // the warped atlas stayed below --min-psnr at every density tried
   explicit_smaller,          // explicit UVs and the source images cost fewer bytes than the map and atlas
+  texture_repeats,           // the UVs tile or repeat the texture: the atlas would store every repeat
 };
 
 struct Fallback {
@@ -44,9 +45,17 @@ struct Fallback {
   // explicit_smaller: psnr is the atlas's.
   double psnr = 0, density_factor = 0, min_psnr = 0;
   bool capped = false;
-  // explicit_smaller: geometry and images with explicit UVs, against those
-  // with the implicit map (bytes).
+  // explicit_smaller: geometry and images with explicit UVs at the atlas's
+  // quality, against those with the implicit map (bytes); the source images'
+  // surface PSNR and JPEG quality there (0: kept as they are, lossless).
   size_t explicit_bytes = 0, implicit_bytes = 0;
+  double explicit_psnr = 0;
+  int explicit_jpeg_quality = 0;
+  int images_as_jpeg =
+      0;  // explicit_smaller with --image-format jpeg: the source images written at this quality
+  // texture_repeats: the source texels the faces cover, each use counted
+  // (what the atlas would hold), and the texels of the images they sample.
+  double texel_uses = 0, image_texels = 0;
 };
 
 struct PrimitiveReport {
@@ -86,6 +95,14 @@ struct AtlasReport {
   // the mean surface PSNR at MIP levels 0..3, and the worst region's (the
   // worst patches holding 1% of the surface) at each level.
   std::array<double, 4> mip_psnr{}, worst_psnr{};
+  // The group's geometry, bitstreams and atlas images (bytes), against the
+  // same geometry with explicit UVs and the replaced source images at the
+  // atlas's quality (explicit_alternative.h): the source images re-encoded
+  // with the same coder (JPEG quality explicit_jpeg_quality, surface PSNR
+  // explicit_psnr), or as they are where the coder is lossless (both 0).
+  size_t file_bytes = 0, explicit_bytes = 0;
+  double explicit_psnr = 0;
+  int explicit_jpeg_quality = 0;
   double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
   double fit_seconds = 0;  // time the fit took, over the images and pages
 };

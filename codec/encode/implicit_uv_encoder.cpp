@@ -230,6 +230,40 @@ std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er
 
 constexpr size_t kHalveChartsFromFaces = 100'000;
 
+// Repeats beyond which an atlas cannot pay (texel uses per stored texel),
+// and the atlas size below which the full measurement is cheap enough to
+// decide instead (one 2048^2 page).
+constexpr double kMaxTexelRepeat = 4.0;
+constexpr double kTexelsWorthJudging = 2048.0 * 2048.0;
+
+struct TexelUse {
+  double uses = 0;          // the faces' texel-space areas, each use counted
+  double image_texels = 0;  // texels of the distinct images the slots sample
+};
+
+// How many texels the faces cover through TEXCOORD_0 (after each slot's
+// transform, in the largest image) against the texels the images store.
+TexelUse uv0_texel_use(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                       std::span<const float> source_corner_uv) {
+  TexelUse use;
+  uint32_t width = 0, height = 0;
+  largest_uv0_image(model, prim, width, height);
+  if (width == 0 || height == 0) return use;
+  std::set<int> images;
+  for (const auto& s : primitive_uv0_slots(model, prim)) images.insert(texture_image(model, s.texture));
+  for (const int image : images) {
+    int iw = 0, ih = 0;
+    std::string err;
+    if (image >= 0 && image_size(model.images[size_t(image)].image, iw, ih, err))
+      use.image_texels += double(iw) * double(ih);
+  }
+  for (uint32_t f = 0; f < source_corner_uv.size() / 6; ++f) {
+    const double area = face_area_texels(source_corner_uv, f, width, height);
+    if (std::isfinite(area)) use.uses += area;
+  }
+  return use;
+}
+
 // Part of each face when the source's texels alone pass one page (their
 // TEXCOORD_0 area times the largest image, or the 3D area at a fixed
 // density); empty otherwise. geom: the primitive as read_primitive gives it;
@@ -355,6 +389,20 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
       if (!std::isfinite(source_corner_uv[2 * c + i]))
         return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
     }
+  // Tiled or repeated UVs (a cloth whose texture repeats 30 times through
+  // KHR_texture_transform): the atlas would store each repeat, many times the
+  // texels the source stores once, and explicit UVs win by far. Decided here,
+  // from the UVs alone, before Draco, the partition and the warp, so such an
+  // input costs seconds, not the minutes a 16-page atlas takes to warp.
+  if (options.quality_fallback) {
+    const TexelUse use = uv0_texel_use(model, prim, source_corner_uv);
+    if (use.uses > kMaxTexelRepeat * use.image_texels && use.uses > kTexelsWorthJudging) {
+      if (Error e = fall_back(model, prim, plan, pr, FallbackReason::texture_repeats); e.failed()) return e;
+      pr.fallback.texel_uses = use.uses;
+      pr.fallback.image_texels = use.image_texels;
+      return {};
+    }
+  }
   // Clearly more texels than one atlas page holds, by the source's own
   // count: cut along the source's UV charts before the costly steps (Draco,
   // the partition), so each part is embedded once. What this estimate

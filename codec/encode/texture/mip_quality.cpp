@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "codec/encode/texture/texel_reach.h"
+
 namespace gltfwarp {
 
 void MipQuality::add(const MipQuality& o) {
@@ -90,7 +92,13 @@ MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler&
   const double src_texels = double(sspec.width) * sspec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
   const double atlas_texels = double(atlas.pixels.spec().width) * atlas.pixels.spec().height;
   const int src_levels = 1 + int(std::ceil(std::log2(std::max(1, std::max(sspec.width, sspec.height)))));
-  const std::vector<TextureSampler> schain = mip_chain(source, std::min(src_levels, 16));
+  // The reference: the source with the texels no face reaches filled from
+  // its charts, so the source's own chart bleed is not counted (texel_reach.h).
+  std::vector<float> source_faces;
+  for (const SurfaceUvs& p : prims)
+    source_faces.insert(source_faces.end(), p.source_uv.begin(), p.source_uv.end());
+  const std::vector<TextureSampler> schain =
+      mip_chain(with_unreached_filled(source, source_faces), std::min(src_levels, 16));
   const int atlas_side = std::max(atlas.pixels.spec().width, atlas.pixels.spec().height);
   const std::vector<TextureSampler> achain =
       mip_chain(atlas, 1 + int(std::ceil(std::log2(std::max(1, atlas_side)))));

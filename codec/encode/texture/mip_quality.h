@@ -10,7 +10,9 @@
 // at L + max(0, -log2 rho), rho being the face's source texels per atlas
 // texel (Williams, "Pyramidal Parametrics", SIGGRAPH 1983; the GL spec's
 // LOD rule). So level 0 is the plain (magnified) surface PSNR. Both are
-// compared at the points surface_error uses.
+// compared at the points surface_error uses. The source's chain is built
+// from the source with the texels no face reaches pull-push filled, so its
+// own chart bleed is not counted against the atlas (texel_reach.h).
 #pragma once
 
 #include <array>

@@ -1,0 +1,109 @@
+// The source images at the atlas's quality, with explicit UVs (see explicit_alternative.h).
+#include "codec/encode/explicit_alternative.h"
+
+#include <algorithm>
+#include <map>
+
+#include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/warp_quality.h"
+
+namespace gltfwarp {
+namespace {
+
+constexpr uint64_t kSearchPoints = 1'000'000;  // surface points per measurement (as the atlas's, spread)
+
+// The group's faces that sample `image`, each compared with itself: source UVs on both sides.
+std::vector<SurfaceUvs> faces_sampling(const tinygltf::Model& model, const ImplicitPlan& plan,
+                                       const AtlasGroup& group, const GroupAtlas& built, int image) {
+  std::vector<SurfaceUvs> uvs;
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    const auto& ip = plan.prims[group.members[k]];
+    bool samples = false;
+    for (const auto& s : primitive_uv0_slots(model, model.meshes[ip.mesh].primitives[ip.primitive]))
+      samples = samples || texture_image(model, s.texture) == image;
+    if (samples) uvs.push_back({ip.source_uv, ip.source_uv, built.group_patch[k]});
+  }
+  return uvs;
+}
+
+struct Coded {
+  size_t bytes = 0;
+  double psnr = 0;
+};
+
+}  // namespace
+
+Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                           const GroupAtlas& built, const EncodeOptions& options, SourceImages& sources,
+                           const std::set<int>& images, double target_psnr, EqualQualityImages& out) {
+  out = {};
+  // The first colour slot through which each image is shown decides its coding and sampler.
+  std::map<int, SlotSource> lossy;
+  for (const SlotSource& source : slot_sources(model, group)) {
+    if (!images.count(source.image) || lossy.count(source.image)) continue;
+    if (slot_coding(model, source, options).lossy) lossy.emplace(source.image, source);
+  }
+  for (int image : images) {
+    const size_t as_is = model.images[size_t(image)].image.size();
+    auto it = lossy.find(image);
+    if (it == lossy.end() || !(target_psnr > 0)) {
+      out.bytes += as_is;
+      continue;
+    }
+    const SlotSource& source = it->second;
+    SourceImage* decoded = nullptr;
+    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+    const SlotCoding coding = slot_coding(model, source, options);
+    out.lossy_quality[image] = coding.jpeg_quality;
+    const bool srgb = source.slot.color_space == ColorSpace::srgb;
+    TextureSampler before;
+    load_texture_sampler(decoded->pixels, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform,
+                         before);
+    const std::vector<SurfaceUvs> uvs = faces_sampling(model, plan, group, built, image);
+    std::map<int, Coded> tried;
+    auto code = [&](int q, Coded& c) -> Error {
+      if (auto t = tried.find(q); t != tried.end()) return c = t->second, Error{};
+      std::vector<uint8_t> bytes;
+      std::string why;
+      OIIO::ImageBuf shown;
+      if (!encode_image(decoded->pixels, "image/jpeg", q, bytes, why) || !decode_image(bytes, shown, why))
+        return {ErrorCode::internal, "image " + std::to_string(image) + ": re-encoding the source: " + why};
+      TextureSampler after;
+      load_texture_sampler(shown, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform, after);
+      c = {bytes.size(), surface_error(before, after, uvs, kSearchPoints).psnr()};
+      tried[q] = c;
+      return {};
+    };
+    // The lowest quality that reaches the target: PSNR grows with the JPEG
+    // quality, so bisect on 1..100.
+    Coded best;
+    if (Error e = code(100, best); e.failed()) return e;
+    int found = 100;
+    if (best.psnr >= target_psnr) {
+      int lo = 1, hi = 100;  // hi reaches the target
+      while (lo < hi) {
+        const int mid = (lo + hi) / 2;
+        Coded c;
+        if (Error e = code(mid, c); e.failed()) return e;
+        if (c.psnr >= target_psnr)
+          hi = mid, best = c;
+        else
+          lo = mid + 1;
+      }
+      found = hi;
+      code(found, best);
+    }
+    out.searched = true;
+    if (best.psnr < target_psnr || best.bytes >= as_is) {  // the source as it is is the better file
+      out.bytes += as_is;
+      continue;
+    }
+    out.bytes += best.bytes;
+    out.psnr = out.psnr > 0 ? std::min(out.psnr, best.psnr) : best.psnr;
+    out.jpeg_quality = std::max(out.jpeg_quality, found);
+  }
+  return {};
+}
+
+}  // namespace gltfwarp
