@@ -143,10 +143,13 @@ Runner add_encode(CLI::App& app) {
          "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
   app.add_option(
-         "--goal-psnr", a->opt.goal_psnr,
-         "Quality goal in dB of the adaptive density: while the atlas is no larger than the source images "
-         "it replaces, texels are not halved below it; 0: trade quality for bytes down to --min-psnr")
-      ->check(CLI::Range(0.0, 99.0));
+         "--target-psnr,--goal-psnr", a->opt.goal_psnr,
+         "Quality in dB the density aims at (surface PSNR of each atlas against its sources): below it the "
+         "density goes up 1.5x, then 2x, and texels are never halved below it. Default: 44 (near "
+         "transparency) with PNG atlases, where an atlas that then outweighs its sources keeps explicit "
+         "UVs; with JPEG atlases 40, bounding only the halving. 0: trade quality for bytes down to "
+         "--min-psnr")
+      ->check(CLI::Range(-1.0, 99.0));
   app.add_flag(
       "!--fixed-density", a->opt.adaptive_density,
       "Keep every patch at its measured density (default: patches whose content is smooth have their "

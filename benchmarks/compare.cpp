@@ -755,14 +755,19 @@ int main(int argc, char** argv) {
       std::string name, format;
       int quality = 0;
       bool fixed_density = false;
+      double target_psnr = -1;  // EncodeOptions::goal_psnr (-1: the default aim)
     };
-    std::vector<Variant> vs = {{"fixed density", "keep", 0, true}, {"png", "png", 0, false}};
+    std::vector<Variant> vs = {{"fixed density", "keep", 0, true},
+                               {"png", "png", 0, false},
+                               {"png target 40", "png", 0, false, 40},
+                               {"png traded down", "png", 0, false, 0}};
     for (int q : ladder) vs.push_back({"jpeg q" + std::to_string(q), "jpeg", q, false});
     for (const auto& v : vs) {
       EncodeOptions o = defaults;
       o.image_format = v.format;
       o.jpeg_quality = v.quality;
       o.adaptive_density = !v.fixed_density;
+      o.goal_psnr = v.target_psnr;
       Timed t = encode(src, o);
       const std::string p = work + "/ours_variant.glb";
       save(t.model, p);

@@ -282,7 +282,9 @@ TEST(Pages, LargePatchesSplitIntoRegionsOfHalfAPage) {
 TEST(Pages, CorpusModelIsCutForPages) {
   GLTFWARP_REQUIRE_CORPUS();
   for (const auto& m : test::corpus_models())
-    if (m.name == "Duck") return check_pages("Duck", m.path, 512, "", false);
+    // At 40 dB (not the default 44, where this cut atlas outweighs its
+    // source and the cut is undone) the pages hold the implicit map.
+    if (m.name == "Duck") return check_pages("Duck", m.path, 512, "--target-psnr 40", false);
   FAIL() << "Duck is not in the corpus";
 }
 

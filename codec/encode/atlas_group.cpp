@@ -206,6 +206,14 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
   return bytes;
 }
 
+// The quality a group's density aims at (quality_aim).
+struct QualityAim {
+  double goal = 0;      // dB
+  bool boost = false;   // raise the density (density_boosts) until the goal, not only to the floor
+  bool strict = false;  // never halve texels below the goal, even while the images outweigh their sources
+};
+constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
+
 // Smooth content keeps its quality with fewer texels. Each round measures
 // every patch at two scale steps less than now (half its texels), then
 // gives the smaller scale to the patches that buy the most texels for the
@@ -217,7 +225,7 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // stops.
 Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                              const EncodeOptions& options, SourceImages& sources, double factor,
-                             double min_psnr, GroupAtlas& built) {
+                             double min_psnr, const QualityAim& aim, GroupAtlas& built) {
   constexpr int32_t kStep = -2;
   StepBias bias(group.members.size());
   for (size_t k = 0; k < group.members.size(); ++k)
@@ -225,11 +233,12 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
   const size_t source_bytes = replaceable_source_bytes(model, group, built);
   bool plan_follows_built = true;  // the plan's UVs are those of the last build
   for (int round = 0; round < options.adaptive_rounds; ++round) {
-    // Images already within their sources' bytes give up no quality below
-    // the goal: an atlas under it stays as it is, one above it goes no lower.
+    // Images already within their sources' bytes (always, with a strict
+    // aim) give up no quality below the goal: an atlas under it stays as it
+    // is, one above it goes no lower.
     double target = min_psnr + 0.5;
-    if (built.report.atlas_image_bytes <= source_bytes)
-      target = std::max(target, std::min(options.goal_psnr, built.error.psnr()));
+    if (aim.strict || built.report.atlas_image_bytes <= source_bytes)
+      target = std::max(target, std::min(aim.goal, built.error.psnr()));
     const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, target / 10.0);
     StepBias all_down = bias;
     for (auto& b : all_down)
@@ -293,14 +302,30 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
 // while it stays below the quality floor (and more density can still help).
 Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                      const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
-                     double min_psnr, GroupAtlas& built, double& factor_used) {
+                     double min_psnr, const QualityAim& aim, GroupAtlas& built, double& factor_used) {
+  const double reach = aim.boost ? std::max(min_psnr, aim.goal) : min_psnr;
   for (double factor : factors) {
     if (Error e = build_group_atlas(model, plan, group, options, sources, factor, {}, built); e.failed())
       return e;
     factor_used = factor;
-    if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= min_psnr || built.capped) break;
+    if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= reach || built.capped) break;
   }
   return {};
+}
+
+// What the group's density aims at (EncodeOptions::goal_psnr): by default
+// 44 dB, near transparency, where the colour slots are coded losslessly, and
+// boosted up to it; a lossy coder's own loss caps the quality, so there
+// the goal stays 40 dB and only bounds the halving while the images are
+// smaller than their sources.
+QualityAim quality_aim(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options) {
+  if (options.goal_psnr == 0) return {0, false, false};
+  if (options.goal_psnr > 0) return {options.goal_psnr, true, true};
+  bool lossy = false;
+  for (const SlotSource& source : slot_sources(model, group))
+    lossy = lossy || slot_coding(model, source, options).lossy;
+  if (lossy) return {kLossyGoalPsnr, false, false};
+  return {kTransparentPsnr, true, true};
 }
 
 }  // namespace
@@ -343,13 +368,15 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     GroupAtlas built;
     SourceImages sources;
     double factor_used = factors[0];
-    if (Error e = build_to_floor(model, plan, group, options, sources, factors, min_psnr, built, factor_used);
+    const QualityAim aim = quality_aim(model, group, options);
+    if (Error e =
+            build_to_floor(model, plan, group, options, sources, factors, min_psnr, aim, built, factor_used);
         e.failed())
       return e;
     if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
         built.floor_psnr() >= min_psnr + 0.5) {
       if (Error e =
-              spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, built);
+              spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, aim, built);
           e.failed())
         return e;
     }

@@ -61,15 +61,16 @@ struct EncodeOptions {
   // shrinking over several rounds for a fraction of a dB, while models with
   // no headroom above the floor stop after the first (benchmarks/results/).
   int adaptive_rounds = 6;
-  // Quality goal (dB) of the adaptive density: while a group's images are
-  // no larger than the source images they replace, a round may not take
-  // the atlas below this goal, nor lower at all if it is already under it
-  // (min_psnr + 0.5 still bounds every round). Bytes are traded down to the
-  // floor only while the atlas outweighs its sources. 0: always down to the
-  // floor. The goal spends a few hundred bytes, where the atlas is already
-  // smaller than its sources, on a dB or two (Fox, MultiUVTest; figures:
-  // benchmarks/results/results.md).
-  double goal_psnr = 40.0;
+  // Quality goal (dB) the density aims at. -1 (default): 44 dB, near
+  // transparency, where the group's colour images are coded losslessly
+  // (PNG): below it the density goes up by density_boosts, and texels are
+  // never halved below it; if the atlas then outweighs the source images,
+  // the group keeps explicit UVs (with a lossless coder the sources are the
+  // better file). With a lossy coder (JPEG) the coder caps the quality, so
+  // the goal is 40 dB and only bounds the halving while the atlas is no
+  // larger than its sources. A positive value aims at that instead, boosting
+  // and strict, with any coder. 0: trade quality for bytes down to min_psnr.
+  double goal_psnr = -1;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The install test (issue 17): installs the build tree to a prefix, builds a
 # small consumer of each component against it with find_package, and runs
-# them: the encoder consumer encodes a generated plane (one patch, which
-# keeps the implicit map with the default options), the decoder
+# them: the encoder consumer encodes a generated plane (one patch; with
+# fallbacks off, as its busy texture would keep explicit UVs), the decoder
 # consumer decodes the result.
 # Usage: run.sh BUILD_DIR SOURCE_DIR CLI
 set -euo pipefail
