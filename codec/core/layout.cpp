@@ -155,6 +155,98 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
   _mm_storeu_pd(&p.x, P);
   return p;
 }
+
+namespace {
+
+inline __m128d select(__m128d mask, __m128d yes, __m128d no) {
+  return _mm_or_pd(_mm_and_pd(mask, yes), _mm_andnot_pd(mask, no));
+}
+inline __m128d lanes(const Unfolding& f0, const Unfolding& f1, double Unfolding::*m) {
+  return _mm_set_pd(f1.*m, f0.*m);
+}
+
+// place_vertex for two vertices whose unfoldings do not depend on each other,
+// lane 0 for f0 and lane 1 for f1: each lane runs the scalar rule of
+// layout.h operation for operation (branches become selects, max(t2, 0)
+// becomes maxpd, which also gives +0.0 for NaN and -0.0), and a lane past its
+// own faces adds +0.0 to sums that start at +0.0, leaving them unchanged. The
+// two dependency chains then run side by side instead of one after the other.
+void place_two(std::span<const Unfolding> f0, std::span<const Unfolding> f1, Vec2& p0, Vec2& p1) {
+  const size_t n0 = f0.size(), n1 = f1.size(), n = std::max(n0, n1);
+  const __m128d zero = _mm_setzero_pd(), one = _mm_set1_pd(1.0), two = _mm_set1_pd(2.0);
+  const __m128d all = _mm_castsi128_pd(_mm_set1_epi32(-1));
+  auto active = [&](size_t i) {
+    return _mm_and_pd(all, _mm_castsi128_pd(_mm_set_epi64x(i < n1 ? -1 : 0, i < n0 ? -1 : 0)));
+  };
+  __m128d sx = zero, sy = zero, sw = zero, mx = zero, my = zero;
+  for (size_t i = 0; i < n; ++i) {
+    const Unfolding& a = f0[i < n0 ? i : 0];
+    const Unfolding& b = f1[i < n1 ? i : 0];
+    const __m128d on = active(i);
+    const __m128d ax = _mm_set_pd(b.a.x, a.a.x), ay = _mm_set_pd(b.a.y, a.a.y);
+    const __m128d bx = _mm_set_pd(b.b.x, a.b.x), by = _mm_set_pd(b.b.y, a.b.y);
+    const __m128d la = lanes(a, b, &Unfolding::la), lb = lanes(a, b, &Unfolding::lb);
+    const __m128d lab2 = lanes(a, b, &Unfolding::lab2);
+    const __m128d ex = _mm_sub_pd(bx, ax), ey = _mm_sub_pd(by, ay);
+    const __m128d la2 = _mm_mul_pd(la, la);
+    const __m128d s =
+        _mm_div_pd(_mm_add_pd(_mm_sub_pd(la2, _mm_mul_pd(lb, lb)), lab2), _mm_mul_pd(two, lab2));
+    const __m128d t2 = _mm_sub_pd(_mm_div_pd(la2, lab2), _mm_mul_pd(s, s));
+    const __m128d t = _mm_sqrt_pd(_mm_max_pd(t2, zero));
+    const __m128d unf = _mm_cmpgt_pd(lab2, zero);
+    const __m128d ux = select(unf, _mm_sub_pd(_mm_add_pd(ax, _mm_mul_pd(s, ex)), _mm_mul_pd(t, ey)),
+                              _mm_div_pd(_mm_add_pd(ax, bx), two));
+    const __m128d uy = select(unf, _mm_add_pd(_mm_add_pd(ay, _mm_mul_pd(s, ey)), _mm_mul_pd(t, ex)),
+                              _mm_div_pd(_mm_add_pd(ay, by), two));
+    const __m128d d2 = _mm_add_pd(_mm_mul_pd(ex, ex), _mm_mul_pd(ey, ey));
+    const __m128d den = _mm_add_pd(d2, lab2);
+    const __m128d e =
+        select(_mm_cmpgt_pd(den, zero),
+               _mm_div_pd(_mm_mul_pd(_mm_mul_pd(two, _mm_sqrt_pd(d2)), _mm_sqrt_pd(lab2)), den), one);
+    const __m128d w = _mm_mul_pd(e, e);
+    sx = _mm_add_pd(sx, _mm_and_pd(on, _mm_mul_pd(w, ux)));
+    sy = _mm_add_pd(sy, _mm_and_pd(on, _mm_mul_pd(w, uy)));
+    sw = _mm_add_pd(sw, _mm_and_pd(on, w));
+    mx = _mm_add_pd(mx, _mm_and_pd(on, ux));
+    my = _mm_add_pd(my, _mm_and_pd(on, uy));
+  }
+  const __m128d weighted = _mm_cmpgt_pd(sw, zero);
+  const __m128d count = _mm_set_pd(static_cast<double>(n1), static_cast<double>(n0));
+  __m128d px = select(weighted, _mm_div_pd(sx, sw), _mm_div_pd(mx, count));
+  __m128d py = select(weighted, _mm_div_pd(sy, sw), _mm_div_pd(my, count));
+  for (int step = 0; step < kRelaxSteps; ++step) {
+    __m128d nx = zero, ny = zero, nw = zero;
+    for (size_t i = 0; i < n; ++i) {
+      const Unfolding& a = f0[i < n0 ? i : 0];
+      const Unfolding& b = f1[i < n1 ? i : 0];
+      const __m128d on = active(i);
+      for (int k = 0; k < 2; ++k) {
+        const __m128d X = k == 0 ? _mm_set_pd(b.a.x, a.a.x) : _mm_set_pd(b.b.x, a.b.x);
+        const __m128d Y = k == 0 ? _mm_set_pd(b.a.y, a.a.y) : _mm_set_pd(b.b.y, a.b.y);
+        const __m128d l = k == 0 ? lanes(a, b, &Unfolding::la) : lanes(a, b, &Unfolding::lb);
+        const __m128d nz = _mm_cmpneq_pd(l, zero);
+        const __m128d w = _mm_and_pd(_mm_div_pd(one, _mm_mul_pd(l, l)), nz);
+        const __m128d dx = _mm_sub_pd(px, X), dy = _mm_sub_pd(py, Y);
+        const __m128d r = _mm_sqrt_pd(_mm_add_pd(_mm_mul_pd(dx, dx), _mm_mul_pd(dy, dy)));
+        const __m128d used = _mm_and_pd(on, _mm_and_pd(nz, _mm_cmpneq_pd(r, zero)));
+        const __m128d g = _mm_div_pd(l, r);
+        nx = _mm_add_pd(nx, _mm_and_pd(used, _mm_mul_pd(w, _mm_add_pd(X, _mm_mul_pd(g, dx)))));
+        ny = _mm_add_pd(ny, _mm_and_pd(used, _mm_mul_pd(w, _mm_add_pd(Y, _mm_mul_pd(g, dy)))));
+        nw = _mm_add_pd(nw, _mm_and_pd(used, w));
+      }
+    }
+    const __m128d moved = _mm_cmpgt_pd(nw, zero);
+    px = select(moved, _mm_div_pd(nx, nw), px);
+    py = select(moved, _mm_div_pd(ny, nw), py);
+  }
+  double x[2], y[2];
+  _mm_storeu_pd(x, px);
+  _mm_storeu_pd(y, py);
+  p0 = {x[0], y[0]};
+  p1 = {x[1], y[1]};
+}
+
+}  // namespace
 #else
 Vec2 place_vertex(std::span<const Unfolding> faces) {
   double sx = 0, sy = 0, sw = 0, mx = 0, my = 0;
@@ -225,6 +317,18 @@ Vec2 place_vertex(std::span<const Unfolding> faces) {
 }
 
 #endif
+
+namespace {
+// Positions of two candidates whose faces do not involve each other.
+inline void place_pair(std::span<const Unfolding> f0, std::span<const Unfolding> f1, Vec2& p0, Vec2& p1) {
+#if defined(__SSE2__)
+  place_two(f0, f1, p0, p1);
+#else
+  p0 = place_vertex(f0);
+  p1 = place_vertex(f1);
+#endif
+}
+}  // namespace
 
 void faces_by_patch(std::span<const uint32_t> patch_of_face, uint32_t patch_count,
                     std::vector<uint32_t>& start, std::vector<uint32_t>& faces) {
@@ -333,7 +437,8 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
 
   std::vector<Vec2> pos(nv);
   std::vector<uint32_t> fresh, list;
-  std::vector<Unfolding> unf;
+  std::vector<Unfolding> unf, unf2;
+  std::vector<uint32_t> ab, ab2;
   uint32_t round_stamp = 0;
   SolveScratch solve_scratch;
   std::vector<Vec2> solve_pos;
@@ -403,8 +508,12 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
       if (list.empty()) break;
       std::sort(list.begin(), list.end());
       fresh.clear();
-      for (uint32_t q : list) {
-        unf.clear();
+      // The faces that place q: those holding q exactly once whose other two
+      // vertices are placed at q's turn. They depend on the placed marks
+      // only, so q's list can be taken as soon as the candidate before it is
+      // marked, before its position is known.
+      auto faces_of = [&](uint32_t q, std::vector<uint32_t>& refs) {
+        refs.clear();
         uint32_t i;
         const uint32_t end = run_of(vs[q], entries, p, i);
         for (; i < end; ++i) {
@@ -412,11 +521,47 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
           const uint32_t a = e.a, b = e.b;
           if (a == q || b == q) continue;  // q not exactly once (also skips the repeat listing)
           if (vs[a].placed != mark || vs[b].placed != mark) continue;
-          unf.push_back(make_unfolding(mesh, q, a, b, pos[a], pos[b]));
+          refs.push_back(a);
+          refs.push_back(b);
         }
-        pos[q] = place_vertex(unf);
+      };
+      auto unfold = [&](uint32_t q, const std::vector<uint32_t>& refs, std::vector<Unfolding>& out) {
+        out.clear();
+        for (size_t j = 0; j < refs.size(); j += 2)
+          out.push_back(make_unfolding(mesh, q, refs[j], refs[j + 1], pos[refs[j]], pos[refs[j + 1]]));
+      };
+      size_t c = 0;
+      bool have_next = false;  // ab holds list[c]'s faces already
+      while (c < list.size()) {
+        const uint32_t q = list[c];
+        if (!have_next) faces_of(q, ab);
+        have_next = false;
         vs[q].placed = mark;
         fresh.push_back(q);
+        if (c + 1 < list.size()) {
+          // The next candidate, with q marked as the sequential replay has it.
+          const uint32_t q2 = list[c + 1];
+          faces_of(q2, ab2);
+          if (std::find(ab2.begin(), ab2.end(), q) == ab2.end()) {
+            // Independent of q's position: both at once.
+            unfold(q, ab, unf);
+            unfold(q2, ab2, unf2);
+            place_pair(unf, unf2, pos[q], pos[q2]);
+            vs[q2].placed = mark;
+            fresh.push_back(q2);
+            c += 2;
+            continue;
+          }
+          unfold(q, ab, unf);
+          pos[q] = place_vertex(unf);
+          ab.swap(ab2);
+          have_next = true;
+          ++c;
+          continue;
+        }
+        unfold(q, ab, unf);
+        pos[q] = place_vertex(unf);
+        ++c;
       }
     }
     for (uint32_t i = poff[p]; i < poff[p + 1]; ++i) {
