@@ -4,16 +4,10 @@
 #include <gtest/gtest.h>
 
 #include "codec/encode/texture/mip_quality.h"
+#include "support/noise_image.h"
 
 namespace gltfwarp {
 namespace {
-
-OIIO::ImageBuf noise(int n, uint32_t seed) {
-  OIIO::ImageBuf buf(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::UINT8));
-  auto* p = static_cast<uint8_t*>(buf.localpixels());
-  for (size_t i = 0; i < size_t(n) * n * 3; ++i) p[i] = uint8_t((seed = seed * 1664525u + 1013904223u) >> 24);
-  return buf;
-}
 
 // A grid of k x k square patches over the unit square, two faces each.
 void grid(int k, std::vector<float>& uv, std::vector<uint32_t>& patch) {
@@ -28,7 +22,7 @@ void grid(int k, std::vector<float>& uv, std::vector<uint32_t>& patch) {
 
 TEST(MipQuality, IdenticalIs99AtEveryLevelAndALocalDefectShowsInTheWorstRegion) {
   const int n = 128;
-  const OIIO::ImageBuf img = noise(n, 7);
+  const OIIO::ImageBuf img = test::noise_image(n, 7);
   TextureSampler a, b;
   load_texture_sampler(img, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, a);
   load_texture_sampler(img, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, b);
@@ -44,7 +38,7 @@ TEST(MipQuality, IdenticalIs99AtEveryLevelAndALocalDefectShowsInTheWorstRegion) 
   }
   // One of 256 patches (8 x 8 texels) turned to another noise.
   OIIO::ImageBuf bad = img;
-  const OIIO::ImageBuf other = noise(n, 99);
+  const OIIO::ImageBuf other = test::noise_image(n, 99);
   auto* p = static_cast<uint8_t*>(bad.localpixels());
   const auto* o = static_cast<const uint8_t*>(other.localpixels());
   for (int y = 40; y < 48; ++y)

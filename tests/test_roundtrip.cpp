@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <map>
 #include <set>
+#include <span>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -445,6 +446,18 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
   EXPECT_TRUE(jpeg_atlas) << "a JPEG source keeps JPEG";
 }
 
+// The first primitive's TEXCOORD_0 as the generated samples write it (tight
+// floats), to edit in place; empty if it is stored otherwise.
+std::span<float> first_primitive_uvs(tinygltf::Model& model) {
+  const tinygltf::Accessor& acc = model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
+  const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
+  if (acc.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT || (view.byteStride != 0 && view.byteStride != 8))
+    return {};
+  auto* uv =
+      reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
+  return {uv, 2 * acc.count};
+}
+
 // UVs squeezed by a KHR_texture_transform scale (what gltfpack writes: UVs
 // quantized to [0, 1/16] with a 16x transform) sample the same texels per
 // unit of surface, so the atlas keeps the same density. Before the
@@ -456,14 +469,9 @@ TEST(GeneratedRoundTrip, TextureTransformScaleKeepsTheDensity) {
     tinygltf::Model model;
     ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
     if (squeezed) {
-      const tinygltf::Accessor& acc =
-          model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
-      ASSERT_EQ(acc.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
-      const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
-      ASSERT_TRUE(view.byteStride == 0 || view.byteStride == 8);
-      auto* uv =
-          reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
-      for (size_t i = 0; i < 2 * acc.count; ++i) uv[i] = (uv[i] - 0.25f) / 16.0f;  // back: 0.25 + 16 * uv
+      const std::span<float> uv = first_primitive_uvs(model);
+      ASSERT_FALSE(uv.empty());
+      for (float& x : uv) x = (x - 0.25f) / 16.0f;  // back: 0.25 + 16 * uv
       tinygltf::Value::Object transform;
       transform["offset"] =
           tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(0.25), tinygltf::Value(0.25)});
@@ -497,14 +505,9 @@ TEST(GeneratedRoundTrip, TiledUvsKeepExplicitUvsBeforeTheWarp) {
   for (const float repeats : {1.0f, 24.0f}) {
     tinygltf::Model model;
     ASSERT_EQ(make_sample_model("sphere", 3000, 256, model), "");
-    const tinygltf::Accessor& acc =
-        model.accessors[model.meshes[0].primitives[0].attributes.at("TEXCOORD_0")];
-    ASSERT_EQ(acc.componentType, TINYGLTF_COMPONENT_TYPE_FLOAT);
-    const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
-    ASSERT_TRUE(view.byteStride == 0 || view.byteStride == 8);
-    auto* uv =
-        reinterpret_cast<float*>(model.buffers[view.buffer].data.data() + view.byteOffset + acc.byteOffset);
-    for (size_t i = 0; i < 2 * acc.count; ++i) uv[i] *= repeats;
+    const std::span<float> uv = first_primitive_uvs(model);
+    ASSERT_FALSE(uv.empty());
+    for (float& x : uv) x *= repeats;
     EncodeReport report;
     ASSERT_EQ(encode_model(model, EncodeOptions{}, report).message, "");
     ASSERT_EQ(report.primitives.size(), 1u);

@@ -5,16 +5,10 @@
 
 #include "codec/encode/texture/mip_quality.h"
 #include "codec/encode/texture/texel_reach.h"
+#include "support/noise_image.h"
 
 namespace gltfwarp {
 namespace {
-
-OIIO::ImageBuf noise(int n, uint32_t seed) {
-  OIIO::ImageBuf buf(OIIO::ImageSpec(n, n, 3, OIIO::TypeDesc::UINT8));
-  auto* p = static_cast<uint8_t*>(buf.localpixels());
-  for (size_t i = 0; i < size_t(n) * n * 3; ++i) p[i] = uint8_t((seed = seed * 1664525u + 1013904223u) >> 24);
-  return buf;
-}
 
 // Texels at least `margin` texels from the triangle (0.1,0.1) (0.6,0.1) (0.1,0.6) of an n x n texture.
 bool far_outside(int x, int y, int n, double margin) {
@@ -27,7 +21,7 @@ const std::vector<float> kTriangle = {0.1f, 0.1f, 0.6f, 0.1f, 0.1f, 0.6f};
 TEST(TexelReach, FillsOnlyTheTexelsNoTriangleReaches) {
   const int n = 64;
   TextureSampler t;
-  load_texture_sampler(noise(n, 3), false, 33071, 33071, {1, 0, 0, 0, 1, 0}, t);
+  load_texture_sampler(test::noise_image(n, 3), false, 33071, 33071, {1, 0, 0, 0, 1, 0}, t);
   const TextureSampler filled = with_unreached_filled(t, kTriangle);
   const auto* a = static_cast<const float*>(t.pixels.localpixels());
   const auto* b = static_cast<const float*>(filled.pixels.localpixels());
@@ -58,7 +52,7 @@ TEST(TexelReach, ATriangleSpanningTheTextureReachesEveryTexel) {
 
 TEST(TexelReach, MipQualityIgnoresWhatTheSourceHoldsWhereNoFaceSamples) {
   const int n = 128;
-  const OIIO::ImageBuf img = noise(n, 11), other = noise(n, 12);
+  const OIIO::ImageBuf img = test::noise_image(n, 11), other = test::noise_image(n, 12);
   OIIO::ImageBuf repainted = img;  // img with every texel far from the triangle replaced
   auto* p = static_cast<uint8_t*>(repainted.localpixels());
   const auto* o = static_cast<const uint8_t*>(other.localpixels());
@@ -69,7 +63,7 @@ TEST(TexelReach, MipQualityIgnoresWhatTheSourceHoldsWhereNoFaceSamples) {
   TextureSampler s1, s2, atlas;
   load_texture_sampler(img, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, s1);
   load_texture_sampler(repainted, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, s2);
-  load_texture_sampler(noise(n, 13), true, 33071, 33071, {1, 0, 0, 0, 1, 0}, atlas);
+  load_texture_sampler(test::noise_image(n, 13), true, 33071, 33071, {1, 0, 0, 0, 1, 0}, atlas);
   const std::vector<uint32_t> patch = {0};
   const SurfaceUvs prims[] = {{kTriangle, kTriangle, patch}};
   const MipQuality q1 = mip_surface_error(s1, atlas, prims), q2 = mip_surface_error(s2, atlas, prims);
