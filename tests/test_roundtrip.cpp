@@ -1,6 +1,7 @@
 // Round trips through the real CLI: every corpus model and generated samples
 // are encoded and decoded; both files must pass the Khronos validator with no
 // error code the source does not already have, and the scene must survive.
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -210,42 +211,84 @@ TEST(CorpusPresence, CorpusIsFound) {
   EXPECT_GE(corpus_models().size(), 9u);
 }
 
-TEST(CorpusRoundTrip, EveryModelRoundTrips) {
+// Every corpus model has its expectations (a new model must be added).
+TEST(CorpusRoundTrip, EveryModelHasExpectations) {
   GLTFWARP_REQUIRE_CORPUS();
-  for (const auto& m : corpus_models()) {
-    SCOPED_TRACE(m.name);
-    uintmax_t ours = 0;
-    std::set<std::pair<int, int>> got;
-    check_round_trip(m.name, m.path, "", &ours, &got);
-    std::printf("%s: %zu primitives with the implicit map\n", m.name.c_str(), got.size());
-    ASSERT_TRUE(expected_implicit_primitives().count(m.name)) << "add " << m.name << " to the expectations";
-    for (const auto& [mesh, prim] : expected_implicit_primitives().at(m.name))
-      EXPECT_TRUE(got.count({mesh, prim}))
-          << m.name << " mesh " << mesh << " primitive " << prim << " no longer uses the implicit map";
-    // The method exists to save bytes: the encoder keeps explicit UVs for any
-    // atlas group that would cost more, so no file is larger than the same
-    // model with explicit UVs (Draco-12) and its own images, beyond the
-    // extension's few JSON bytes.
-    const std::string dir = scratch_dir("explicit-" + m.name);
-    std::string out;
-    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q --explicit-uvs '" + m.path + "' -o " + dir +
-                              "/explicit.glb 2>&1",
-                          &out),
-              0)
-        << out;
-    const uintmax_t explicit_uvs = fs::file_size(dir + "/explicit.glb");
-    std::printf("%s: %ju bytes, %ju with explicit UVs\n", m.name.c_str(), uintmax_t(ours),
-                uintmax_t(explicit_uvs));
-    EXPECT_LE(ours, explicit_uvs + explicit_uvs / 100 + 512) << m.name;
-    if (auto traded = kTradedDown.find(m.name); traded != kTradedDown.end()) {
-      std::set<std::pair<int, int>> got_traded;
-      check_round_trip(m.name + "-traded", m.path, "--target-psnr 0", nullptr, &got_traded);
-      for (const auto& [mesh, prim] : traded->second)
-        EXPECT_TRUE(got_traded.count({mesh, prim})) << m.name << " --target-psnr 0: mesh " << mesh
-                                                    << " primitive " << prim << " lost the implicit map";
-    }
-  }
+  for (const auto& m : corpus_models())
+    EXPECT_TRUE(expected_implicit_primitives().count(m.name)) << "add " << m.name << " to the expectations";
 }
+
+// One test per corpus model (each within its own time limit, and run in
+// parallel): the default round trip, the expected implicit primitives, and
+// no file larger than explicit UVs.
+class CorpusModelRoundTrip : public testing::TestWithParam<std::string> {};
+
+TEST_P(CorpusModelRoundTrip, RoundTrips) {
+  GLTFWARP_REQUIRE_CORPUS();
+  std::string path;
+  for (const auto& c : corpus_models())
+    if (c.name == GetParam()) path = c.path;
+  ASSERT_FALSE(path.empty()) << GetParam() << " is not in the corpus";
+  const std::string& name = GetParam();
+  uintmax_t ours = 0;
+  std::set<std::pair<int, int>> got;
+  check_round_trip(name, path, "", &ours, &got);
+  std::printf("%s: %zu primitives with the implicit map\n", name.c_str(), got.size());
+  for (const auto& [mesh, prim] : expected_implicit_primitives().at(name))
+    EXPECT_TRUE(got.count({mesh, prim}))
+        << name << " mesh " << mesh << " primitive " << prim << " no longer uses the implicit map";
+  // The method exists to save bytes: the encoder keeps explicit UVs for any
+  // atlas group that would cost more, so no file is larger than the same
+  // model with explicit UVs (Draco-12) and its own images, beyond the
+  // extension's few JSON bytes.
+  const std::string dir = scratch_dir("explicit-" + name);
+  std::string out;
+  ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode -q --explicit-uvs '" + path + "' -o " + dir +
+                            "/explicit.glb 2>&1",
+                        &out),
+            0)
+      << out;
+  const uintmax_t explicit_uvs = fs::file_size(dir + "/explicit.glb");
+  std::printf("%s: %ju bytes, %ju with explicit UVs\n", name.c_str(), uintmax_t(ours),
+              uintmax_t(explicit_uvs));
+  EXPECT_LE(ours, explicit_uvs + explicit_uvs / 100 + 512) << name;
+}
+
+// The implicit map of the models that keep explicit UVs by default, with
+// quality traded for bytes.
+class CorpusTradedRoundTrip : public testing::TestWithParam<std::string> {};
+
+TEST_P(CorpusTradedRoundTrip, KeepsTheImplicitMap) {
+  GLTFWARP_REQUIRE_CORPUS();
+  const auto traded = kTradedDown.find(GetParam());
+  ASSERT_NE(traded, kTradedDown.end());
+  std::string path;
+  for (const auto& c : corpus_models())
+    if (c.name == GetParam()) path = c.path;
+  ASSERT_FALSE(path.empty()) << GetParam() << " is not in the corpus";
+  std::set<std::pair<int, int>> got;
+  check_round_trip(GetParam() + "-traded", path, "--target-psnr 0", nullptr, &got);
+  for (const auto& [mesh, prim] : traded->second)
+    EXPECT_TRUE(got.count({mesh, prim})) << GetParam() << " --target-psnr 0: mesh " << mesh << " primitive "
+                                         << prim << " lost the implicit map";
+}
+
+std::vector<std::string> model_names(const std::map<std::string, std::set<std::pair<int, int>>>& models) {
+  std::vector<std::string> names;
+  for (const auto& [name, prims] : models) names.push_back(name);
+  return names;
+}
+
+std::string test_id(const testing::TestParamInfo<std::string>& info) {
+  std::string id = info.param;
+  for (char& c : id)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return id;
+}
+
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusModelRoundTrip,
+                         testing::ValuesIn(model_names(expected_implicit_primitives())), test_id);
+INSTANTIATE_TEST_SUITE_P(Corpus, CorpusTradedRoundTrip, testing::ValuesIn(model_names(kTradedDown)), test_id);
 
 TEST(CorpusRoundTrip, RawGeometryRoundTrips) {
   GLTFWARP_REQUIRE_CORPUS();
