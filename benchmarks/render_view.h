@@ -244,6 +244,7 @@ class Scene {
       textures_[index] = std::make_unique<MipTexture>(*sampler);
     }
     for (Draw& d : draws_) d.tex = textures_[d.texture].get();
+    samplers_.clear();  // the pyramids hold the texels now
   }
 
   bool empty() const { return draws_.empty(); }

@@ -19,10 +19,7 @@ std::vector<SurfaceUvs> faces_sampling(const tinygltf::Model& model, const Impli
   std::vector<SurfaceUvs> uvs;
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
-    bool samples = false;
-    for (const auto& s : primitive_uv0_slots(model, model.meshes[ip.mesh].primitives[ip.primitive]))
-      samples = samples || texture_image(model, s.texture) == image;
-    if (samples) uvs.push_back({ip.source_uv, ip.source_uv, built.group_patch[k]});
+    if (samples_image(model, ip, image)) uvs.push_back({ip.source_uv, ip.source_uv, built.group_patch[k]});
   }
   return uvs;
 }
@@ -39,10 +36,11 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
                            const std::set<int>& images, double target_psnr, EqualQualityImages& out) {
   out = {};
   // The first colour slot through which each image is shown decides its coding and sampler.
-  std::map<int, SlotSource> lossy;
+  std::map<int, std::pair<SlotSource, SlotCoding>> lossy;
   for (const SlotSource& source : slot_sources(model, group)) {
     if (!images.count(source.image) || lossy.count(source.image)) continue;
-    if (slot_coding(model, source, options).lossy) lossy.emplace(source.image, source);
+    if (SlotCoding coding = slot_coding(model, source, options); coding.lossy)
+      lossy.emplace(source.image, std::pair{source, std::move(coding)});
   }
   for (int image : images) {
     const size_t as_is = model.images[size_t(image)].image.size();
@@ -51,19 +49,14 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       out.bytes += as_is;
       continue;
     }
-    const SlotSource& source = it->second;
+    const auto& [source, coding] = it->second;
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
-    const SlotCoding coding = slot_coding(model, source, options);
     out.lossy_quality[image] = coding.jpeg_quality;
     const bool srgb = source.slot.color_space == ColorSpace::srgb;
-    TextureSampler before;
-    load_texture_sampler(decoded->pixels, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform,
-                         before);
+    const TextureSampler& before = source_sampler(source, coding, *decoded);
     const std::vector<SurfaceUvs> uvs = faces_sampling(model, plan, group, built, image);
-    std::map<int, Coded> tried;
     auto code = [&](int q, Coded& c) -> Error {
-      if (auto t = tried.find(q); t != tried.end()) return c = t->second, Error{};
       std::vector<uint8_t> bytes;
       std::string why;
       OIIO::ImageBuf shown;
@@ -72,7 +65,6 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       TextureSampler after;
       load_texture_sampler(shown, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform, after);
       c = {bytes.size(), surface_error(before, after, uvs, kSearchPoints).psnr()};
-      tried[q] = c;
       return {};
     };
     // The lowest quality that reaches the target: PSNR grows with the JPEG
@@ -91,8 +83,7 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
         else
           lo = mid + 1;
       }
-      found = hi;
-      code(found, best);
+      found = hi;  // best holds its file: set when hi last moved, or the q100 try
     }
     out.searched = true;
     if (best.psnr < target_psnr || best.bytes >= as_is) {  // the source as it is is the better file

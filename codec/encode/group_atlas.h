@@ -184,6 +184,13 @@ std::span<const PaletteEntry> snap_page_image(const tinygltf::Model& model, cons
 Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry> palette,
                       const SlotCoding& coding, std::vector<uint8_t>& bytes);
 
+// Whether the member samples `image` through TEXCOORD_0 in any material it can show.
+bool samples_image(const tinygltf::Model& model, const ImplicitPrimitive& ip, int image);
+
+// The source as a viewer samples it through the slot (cached in `decoded`, per slot key).
+const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding& coding,
+                                     SourceImage& decoded);
+
 // Surface error of `shown` (what a viewer samples: the page image, or its
 // coded bytes decoded back) against the source: into the atlas's error, the
 // image's and each patch's; with `mip_levels` (full builds only: it costs

@@ -126,6 +126,21 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
   return c;
 }
 
+bool samples_image(const tinygltf::Model& model, const ImplicitPrimitive& ip, int image) {
+  for (const auto& s : primitive_uv0_slots(model, model.meshes[ip.mesh].primitives[ip.primitive]))
+    if (texture_image(model, s.texture) == image) return true;
+  return false;
+}
+
+const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding& coding,
+                                     SourceImage& decoded) {
+  auto [it, fresh] = decoded.samplers.try_emplace(source.key);
+  if (fresh)
+    load_texture_sampler(decoded.pixels, source.slot.color_space == ColorSpace::srgb, coding.gl_wrap_s,
+                         coding.gl_wrap_t, source.slot.transform, it->second);
+  return it->second;
+}
+
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
@@ -141,10 +156,7 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   for (size_t k : built.pages[page]) {
     const auto& ip = plan.prims[group.members[k]];
     // Only the members that sample the image (through any material they can show) paint it.
-    bool samples = false;
-    for (const auto& s : primitive_uv0_slots(model, model.meshes[ip.mesh].primitives[ip.primitive]))
-      samples = samples || texture_image(model, s.texture) == source.image;
-    if (!samples) continue;
+    if (!samples_image(model, ip, source.image)) continue;
     WarpPrimitive w;
     w.source_uv = ip.source_uv;
     w.atlas_uv = ip.corner_uv;
@@ -195,13 +207,8 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
                         const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, bool mip_levels,
                         GroupAtlas& out) {
-  const TextureSlot& slot = source.slot;
-  const bool srgb = slot.color_space == ColorSpace::srgb;
-  auto [it, fresh] = decoded.samplers.try_emplace(source.key);
-  if (fresh)
-    load_texture_sampler(decoded.pixels, srgb, coding.gl_wrap_s, coding.gl_wrap_t, slot.transform,
-                         it->second);
-  const TextureSampler& before = it->second;
+  const bool srgb = source.slot.color_space == ColorSpace::srgb;
+  const TextureSampler& before = source_sampler(source, coding, decoded);
   TextureSampler after;
   load_texture_sampler(shown, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
                        {1, 0, 0, 0, 1, 0}, after);
