@@ -49,7 +49,9 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       out.bytes += as_is;
       continue;
     }
-    const auto& [source, coding] = it->second;
+    // Named references, not a structured binding: lambdas below capture them.
+    const SlotSource& source = it->second.first;
+    const SlotCoding& coding = it->second.second;
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
     out.lossy_quality[image] = coding.jpeg_quality;
