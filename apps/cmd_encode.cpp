@@ -131,10 +131,11 @@ Runner add_encode(CLI::App& app) {
   app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->check(CLI::Range(0, 64));
   app.add_flag("--power-of-two", a->opt.power_of_two,
                "Atlas sides as powers of two (default: multiples of 4)");
-  app.add_option("--image-format", a->opt.image_format, "keep, png or jpeg")
-      ->check(CLI::IsMember({"keep", "png", "jpeg"}));
-  app.add_option("--jpeg-quality", a->opt.jpeg_quality,
-                 "JPEG quality of warped images; 0 matches the source's")
+  app.add_option("--image-format", a->opt.image_format,
+                 "keep, png, jpeg or webp (lossy; the file then requires EXT_texture_webp)")
+      ->check(CLI::IsMember({"keep", "png", "jpeg", "webp"}));
+  app.add_option("--image-quality,--jpeg-quality", a->opt.image_quality,
+                 "JPEG or WebP quality of warped images (1-100); 0 matches the source JPEG's (else 90)")
       ->check(CLI::Range(0, 100));
   app.add_option(
          "--min-psnr", a->opt.min_psnr,

@@ -12,6 +12,9 @@ std::string primitive_name(int mesh, int primitive) {
   return "mesh " + std::to_string(mesh) + " primitive " + std::to_string(primitive);
 }
 
+// "JPEG", "WebP": the lossy coder a mimeType names, as the report prints it.
+const char* coder_name(const std::string& mime) { return mime == "image/webp" ? "WebP" : "JPEG"; }
+
 }  // namespace
 
 std::string fallback_text(const Fallback& f) {
@@ -33,19 +36,22 @@ std::string fallback_text(const Fallback& f) {
                     f.density_factor, f.capped ? " (held by --max-atlas-size)" : "", f.min_psnr);
       return line;
     case FallbackReason::explicit_smaller:
-      if (f.explicit_jpeg_quality > 0)
+      if (f.explicit_image_quality > 0) {
         std::snprintf(line, sizeof line,
-                      "smaller at equal quality: %zu bytes of geometry and source images as JPEG q%d "
+                      "smaller at equal quality: %zu bytes of geometry and source images as %s q%d "
                       "(%.1f dB), against %zu with the implicit map and a %.1f dB atlas",
-                      f.explicit_bytes, f.explicit_jpeg_quality, f.explicit_psnr, f.implicit_bytes, f.psnr);
-      if (f.images_as_jpeg > 0)
-        std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
-                      "; the source images written as JPEG q%d, as asked", f.images_as_jpeg);
-      else
+                      f.explicit_bytes, coder_name(f.explicit_image_mime), f.explicit_image_quality,
+                      f.explicit_psnr, f.implicit_bytes, f.psnr);
+        if (f.images_recoded_quality > 0)
+          std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
+                        "; the source images written as %s q%d, as asked", coder_name(f.explicit_image_mime),
+                        f.images_recoded_quality);
+      } else {
         std::snprintf(line, sizeof line,
                       "smaller: %zu bytes of geometry and the source images as they are, against %zu with "
                       "the implicit map and a %.1f dB atlas",
                       f.explicit_bytes, f.implicit_bytes, f.psnr);
+      }
       return line;
     case FallbackReason::texture_repeats:
       std::snprintf(line, sizeof line,
@@ -147,12 +153,12 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
           a.mip_psnr[0], a.mip_psnr[1], a.mip_psnr[2], a.mip_psnr[3], a.worst_psnr[0], a.worst_psnr[1],
           a.worst_psnr[2], a.worst_psnr[3], a.fit_gain_db, a.fit_seconds);
     if (a.explicit_bytes > 0) {
-      if (a.explicit_jpeg_quality > 0)
+      if (a.explicit_image_quality > 0)
         std::printf(
-            "  with explicit UVs at equal quality: %zu bytes (source images as JPEG q%d, %.1f dB); "
+            "  with explicit UVs at equal quality: %zu bytes (source images as %s q%d, %.1f dB); "
             "implicit: %zu bytes (%.1f dB), %+.1f%%\n",
-            a.explicit_bytes, a.explicit_jpeg_quality, a.explicit_psnr, a.file_bytes, a.psnr,
-            100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
+            a.explicit_bytes, coder_name(a.explicit_image_mime), a.explicit_image_quality, a.explicit_psnr,
+            a.file_bytes, a.psnr, 100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
       else
         std::printf(
             "  with explicit UVs: %zu bytes (source images as they are, lossless); implicit: %zu bytes "
@@ -166,7 +172,8 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
   if (!larger.empty())
     std::printf(
         "note: atlas %s: images larger than those replaced (every patch keeps its source detail, plus "
-        "gutters; --texel-density 0.8x, --image-format jpeg or a lower --jpeg-quality trade detail for "
+        "gutters; --texel-density 0.8x, --image-format jpeg or webp, or a lower --image-quality trade detail "
+        "for "
         "bytes)\n",
         larger.c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", note_text(n).c_str());

@@ -765,7 +765,7 @@ int main(int argc, char** argv) {
     for (const auto& v : vs) {
       EncodeOptions o = defaults;
       o.image_format = v.format;
-      o.jpeg_quality = v.quality;
+      o.image_quality = v.quality;
       o.adaptive_density = !v.fixed_density;
       o.goal_psnr = v.target_psnr;
       Timed t = encode(src, o);
@@ -812,7 +812,7 @@ int main(int argc, char** argv) {
         for (auto& [im, pixels] : scaled) {
           ImageEncodeOptions eo;
           eo.codec = quality ? ImageCodec::jpeg : ImageCodec::png;
-          eo.jpeg_quality = quality ? quality : 90;
+          eo.quality = quality ? quality : 90;
           std::vector<uint8_t> b;
           if (!encode_image(pixels, eo, b).empty()) fail("encode image");
           auto& image = m.images[size_t(im)];

@@ -130,6 +130,15 @@ TEST(BatchEncode, ReportResumeForceAndByteIdenticalOutputs) {
     if (h["implicit"].get<int>() > 0) {
       EXPECT_GT(j["psnr_db"].get<double>(), 20.0) << j.dump();
     }
+    // Each atlas kept carries its equal-quality comparison (issue 16, honest reports).
+    const auto& eq = j["equal_quality"];
+    ASSERT_TRUE(eq.is_object()) << j.dump();
+    EXPECT_EQ(eq["atlases"].size(), size_t(j["atlases"].get<int>())) << j.dump();
+    for (const auto& a : eq["atlases"]) {
+      EXPECT_GT(a["bytes"].get<uint64_t>(), 0u) << j.dump();
+      EXPECT_GT(a["explicit_bytes"].get<uint64_t>(), 0u) << j.dump();
+      EXPECT_FALSE(a["explicit_images"].get<std::string>().empty()) << j.dump();
+    }
   }
   for (const auto& in : l.bad) {
     ASSERT_TRUE(lines.count(in)) << in;

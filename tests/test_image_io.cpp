@@ -46,7 +46,7 @@ TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
   for (int q : {50, 75, 92}) {
     ImageEncodeOptions opt;
     opt.codec = ImageCodec::jpeg;
-    opt.jpeg_quality = q;
+    opt.quality = q;
     std::vector<uint8_t> bytes;
     ASSERT_EQ(encode_image(img, opt, bytes), "");
     EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::jpeg);

@@ -480,7 +480,7 @@ TEST(CorpusRoundTrip, JpegSourceAtlasIsNoLargerThanItsSource) {
       "JPEG Duck: images %zu -> %zu bytes, %.2f dB; explicit UVs at equal quality %zu bytes (q%d), "
       "implicit %zu\n",
       atlas.source_image_bytes, atlas.atlas_image_bytes, atlas.psnr, atlas.explicit_bytes,
-      atlas.explicit_jpeg_quality, atlas.file_bytes);
+      atlas.explicit_image_quality, atlas.file_bytes);
   EXPECT_LE(atlas.atlas_image_bytes, atlas.source_image_bytes);
   EXPECT_GE(atlas.psnr, 38.0);
   bool jpeg_atlas = false;
@@ -723,7 +723,7 @@ TEST(CorpusRoundTrip, FallbackComparesFilesAtEqualQuality) {
     ASSERT_TRUE(read_gltf(path, model).ok);
     EncodeOptions o;
     o.image_format = "jpeg";
-    o.jpeg_quality = q;
+    o.image_quality = q;
     o.quality_fallback = false;  // keep the atlas, to read its figures
     EncodeReport report;
     ASSERT_EQ(encode_model(model, o, report).message, "");
@@ -731,10 +731,10 @@ TEST(CorpusRoundTrip, FallbackComparesFilesAtEqualQuality) {
     const AtlasReport& a = report.atlases[0];
     ASSERT_GT(a.explicit_bytes, 0u);
     ASSERT_GT(a.file_bytes, a.atlas_image_bytes);
-    ASSERT_GT(a.explicit_jpeg_quality, 0) << "a JPEG atlas is priced against JPEG sources";
+    ASSERT_GT(a.explicit_image_quality, 0) << "a JPEG atlas is priced against JPEG sources";
     EXPECT_GE(a.explicit_psnr, a.psnr) << "the alternative is at least as good as the atlas";
     std::printf("Duck jpeg q%d: implicit %zu bytes at %.2f dB, explicit %zu at %.2f dB (q%d)\n", q,
-                a.file_bytes, a.psnr, a.explicit_bytes, a.explicit_psnr, a.explicit_jpeg_quality);
+                a.file_bytes, a.psnr, a.explicit_bytes, a.explicit_psnr, a.explicit_image_quality);
     // The same encode with the choice on keeps the smaller of the two.
     tinygltf::Model again;
     ASSERT_TRUE(read_gltf(path, again).ok);

@@ -127,9 +127,10 @@ void commit_group_atlas(tinygltf::Model& model, ImplicitPlan& plan, const AtlasG
     img.as_is = true;
     model.images.push_back(std::move(img));
     tinygltf::Texture tex;
-    tex.source = static_cast<int>(model.images.size() - 1);
     tex.sampler = atlas_sampler(model, std::get<1>(job.key), clamp_samplers);
     model.textures.push_back(tex);
+    set_texture_image(model, static_cast<int>(model.textures.size() - 1),
+                      static_cast<int>(model.images.size() - 1));
     made[{job.key, job.page}] = static_cast<int>(model.textures.size() - 1);
   }
   // Slots as the source had them: retargeting must not change what later
@@ -411,7 +412,8 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     built.report.file_bytes = implicit_bytes;
     built.report.explicit_bytes = explicit_bytes;
     built.report.explicit_psnr = alternative.psnr;
-    built.report.explicit_jpeg_quality = alternative.jpeg_quality;
+    built.report.explicit_image_quality = alternative.quality;
+    built.report.explicit_image_mime = alternative.mime;
     if (options.quality_fallback && implicit_bytes > explicit_bytes) {
       Fallback why;
       why.reason = FallbackReason::explicit_smaller;
@@ -419,20 +421,22 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.implicit_bytes = implicit_bytes;
       why.psnr = built.floor_psnr();
       why.explicit_psnr = alternative.psnr;
-      why.explicit_jpeg_quality = alternative.jpeg_quality;
-      // Asked for JPEG images, the user gets them with explicit UVs too, at
-      // the quality asked (the images only this group samples).
-      if (options.image_format == "jpeg")
+      why.explicit_image_quality = alternative.quality;
+      why.explicit_image_mime = alternative.mime;
+      // Asked for JPEG or WebP images, the user gets them with explicit UVs
+      // too, at the quality asked (the images only this group samples).
+      if (options.image_format == "jpeg" || options.image_format == "webp")
         for (const auto& [image, quality] : alternative.lossy_quality) {
           SourceImage* decoded = nullptr;
           if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
           std::vector<uint8_t> bytes;
           std::string err;
-          if (!encode_image(decoded->pixels, "image/jpeg", quality, bytes, err))
+          if (!encode_image(decoded->pixels, alternative.mime, quality, bytes, err))
             return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
           model.images[size_t(image)].image = std::move(bytes);
-          model.images[size_t(image)].mimeType = "image/jpeg";
-          why.images_as_jpeg = quality;
+          model.images[size_t(image)].mimeType = alternative.mime;
+          point_textures_at_image(model, image);
+          why.images_recoded_quality = quality;
         }
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;

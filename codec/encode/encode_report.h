@@ -47,12 +47,15 @@ struct Fallback {
   bool capped = false;
   // explicit_smaller: geometry and images with explicit UVs at the atlas's
   // quality, against those with the implicit map (bytes); the source images'
-  // surface PSNR and JPEG quality there (0: kept as they are, lossless).
+  // surface PSNR and coder quality there (0: kept as they are, lossless),
+  // the coder's mimeType (image/jpeg or image/webp).
   size_t explicit_bytes = 0, implicit_bytes = 0;
   double explicit_psnr = 0;
-  int explicit_jpeg_quality = 0;
-  int images_as_jpeg =
-      0;  // explicit_smaller with --image-format jpeg: the source images written at this quality
+  int explicit_image_quality = 0;
+  std::string explicit_image_mime;
+  // explicit_smaller with --image-format jpeg or webp: the source images
+  // were written with that coder at this quality (0: left as they were).
+  int images_recoded_quality = 0;
   // texture_repeats: the source texels the faces cover, each use counted
   // (what the atlas would hold), and the texels of the images they sample.
   double texel_uses = 0, image_texels = 0;
@@ -98,11 +101,13 @@ struct AtlasReport {
   // The group's geometry, bitstreams and atlas images (bytes), against the
   // same geometry with explicit UVs and the replaced source images at the
   // atlas's quality (explicit_alternative.h): the source images re-encoded
-  // with the same coder (JPEG quality explicit_jpeg_quality, surface PSNR
-  // explicit_psnr), or as they are where the coder is lossless (both 0).
+  // with the same coder (explicit_image_mime at quality explicit_image_quality,
+  // surface PSNR explicit_psnr), or as they are where the coder is lossless
+  // (both 0).
   size_t file_bytes = 0, explicit_bytes = 0;
   double explicit_psnr = 0;
-  int explicit_jpeg_quality = 0;
+  int explicit_image_quality = 0;
+  std::string explicit_image_mime;
   double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
   double fit_seconds = 0;  // time the fit took, over the images and pages
 };

@@ -41,9 +41,11 @@ struct EncodeOptions {
   // snaps them back to the palette, and the adaptive density spends its
   // gain in fewer texels.
   bool least_squares_texels = false;
-  bool power_of_two = false;          // atlas sides as powers of two (else multiples of 4)
-  std::string image_format = "keep";  // keep | png | jpeg
-  int jpeg_quality = 0;               // JPEG output quality; 0 = match the source JPEG (90 for others)
+  bool power_of_two = false;  // atlas sides as powers of two (else multiples of 4)
+  // keep | png | jpeg | webp. WebP (lossy) is written only when asked: the
+  // file then requires EXT_texture_webp, which not every viewer reads.
+  std::string image_format = "keep";
+  int image_quality = 0;  // JPEG/WebP quality, 1..100; 0 = the source JPEG's (90 for others)
   // Quality floor of every warped atlas (surface PSNR against the source,
   // dB, colour slots, of the texels the file will hold: after palette
   // snapping and JPEG coding; warp_quality.h). -1: 38 with the default auto

@@ -54,7 +54,8 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     const SlotCoding& coding = it->second.second;
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
-    out.lossy_quality[image] = coding.jpeg_quality;
+    out.lossy_quality[image] = coding.quality;
+    out.mime = coding.mime;
     const bool srgb = source.slot.color_space == ColorSpace::srgb;
     const TextureSampler& before = source_sampler(source, coding, *decoded);
     const std::vector<SurfaceUvs> uvs = faces_sampling(model, plan, group, built, image);
@@ -62,14 +63,14 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       std::vector<uint8_t> bytes;
       std::string why;
       OIIO::ImageBuf shown;
-      if (!encode_image(decoded->pixels, "image/jpeg", q, bytes, why) || !decode_image(bytes, shown, why))
+      if (!encode_image(decoded->pixels, coding.mime, q, bytes, why) || !decode_image(bytes, shown, why))
         return {ErrorCode::internal, "image " + std::to_string(image) + ": re-encoding the source: " + why};
       TextureSampler after;
       load_texture_sampler(shown, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform, after);
       c = {bytes.size(), surface_error(before, after, uvs, kSearchPoints).psnr()};
       return {};
     };
-    // The lowest quality that reaches the target: PSNR grows with the JPEG
+    // The lowest quality that reaches the target: PSNR grows with the coder's
     // quality, so bisect on 1..100.
     Coded best;
     if (Error e = code(100, best); e.failed()) return e;
@@ -94,7 +95,7 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     }
     out.bytes += best.bytes;
     out.psnr = out.psnr > 0 ? std::min(out.psnr, best.psnr) : best.psnr;
-    out.jpeg_quality = std::max(out.jpeg_quality, found);
+    out.quality = std::max(out.quality, found);
   }
   return {};
 }

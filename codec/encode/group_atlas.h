@@ -157,9 +157,9 @@ Error decode_source(const tinygltf::Model& model, int image, SourceImages& sourc
 struct SlotCoding {
   WarpOptions warp;
   int gl_wrap_s = 0, gl_wrap_t = 0;
-  std::string mime;  // of the atlas image
-  int jpeg_quality = 90;
-  bool lossy = false;  // JPEG colour: what a viewer shows is the decoded bytes
+  std::string mime;    // of the atlas image
+  int quality = 90;    // JPEG/WebP
+  bool lossy = false;  // JPEG/WebP colour: what a viewer shows is the decoded bytes
 };
 SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, const EncodeOptions& options);
 

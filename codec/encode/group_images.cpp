@@ -20,6 +20,7 @@ namespace {
 std::string output_mime(std::span<const uint8_t> source, const std::string& wanted) {
   if (wanted == "png") return "image/png";
   if (wanted == "jpeg") return "image/jpeg";
+  if (wanted == "webp") return "image/webp";
   return sniff_image_codec(source) == ImageCodec::jpeg ? "image/jpeg" : "image/png";
 }
 
@@ -116,13 +117,14 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
   c.warp.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
   c.warp.least_squares = options.least_squares_texels;
   c.mime = output_mime(bytes, options.image_format);
-  c.warp.empty_fill = c.mime == "image/jpeg" ? EmptyFill::pull_push : EmptyFill::mean;
-  c.jpeg_quality = options.jpeg_quality;
-  if (c.jpeg_quality <= 0) c.jpeg_quality = estimate_jpeg_quality(bytes);
-  if (c.jpeg_quality <= 0) c.jpeg_quality = 90;
-  // JPEG is lossy: the check measures the decoded bytes, what a viewer will
+  // Block coders (JPEG, WebP's VP8) code a smooth fill in fewer bytes.
+  c.warp.empty_fill = lossy_mime(c.mime) ? EmptyFill::pull_push : EmptyFill::mean;
+  c.quality = options.image_quality;
+  if (c.quality <= 0) c.quality = estimate_jpeg_quality(bytes);
+  if (c.quality <= 0) c.quality = 90;
+  // A lossy coder: the check measures the decoded bytes, what a viewer will
   // show (benchmarks/results: Duck as JPEG, before and after coding).
-  c.lossy = c.mime == "image/jpeg" && !slot.normal_map;
+  c.lossy = lossy_mime(c.mime) && !slot.normal_map;
   return c;
 }
 
@@ -200,7 +202,7 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
   if (!palette.empty())
     err = encode_indexed_png(atlas, palette, bytes);
   else
-    encode_image(atlas, coding.mime, coding.jpeg_quality, bytes, err);
+    encode_image(atlas, coding.mime, coding.quality, bytes, err);
   return error_if(ErrorCode::internal, err);
 }
 

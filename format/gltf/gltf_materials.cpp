@@ -1,6 +1,7 @@
 #include "format/gltf/gltf_materials.h"
 
 #include "format/gltf/gltf_accessors.h"
+#include "format/gltf/gltf_primitive.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,6 +10,7 @@ namespace gltfwarp {
 namespace {
 
 constexpr const char* kTransform = "KHR_texture_transform";
+constexpr const char* kWebp = "EXT_texture_webp";
 
 void read_transform(const tinygltf::ExtensionMap& exts, TextureSlot& s) {
   auto it = exts.find(kTransform);
@@ -102,9 +104,33 @@ void replace_primitive_material(tinygltf::Primitive& prim, int from, int to) {
 
 int texture_image(const tinygltf::Model& model, int texture) {
   if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return -1;
-  const int src = model.textures[texture].source;
+  const tinygltf::Texture& t = model.textures[texture];
+  int src = t.source;
+  if (src < 0)
+    if (auto it = t.extensions.find(kWebp); it != t.extensions.end() && it->second.IsObject() &&
+                                            it->second.Has("source") && it->second.Get("source").IsInt())
+      src = it->second.Get("source").GetNumberAsInt();
   if (src < 0 || static_cast<size_t>(src) >= model.images.size()) return -1;
   return src;
+}
+
+void set_texture_image(tinygltf::Model& model, int texture, int image) {
+  tinygltf::Texture& t = model.textures[size_t(texture)];
+  if (model.images[size_t(image)].mimeType == "image/webp") {
+    t.source = -1;
+    tinygltf::Value::Object ext;
+    ext["source"] = tinygltf::Value(image);
+    t.extensions[kWebp] = tinygltf::Value(ext);
+    declare_extension(model, kWebp, true);
+  } else {
+    t.source = image;
+    t.extensions.erase(kWebp);
+  }
+}
+
+void point_textures_at_image(tinygltf::Model& model, int image) {
+  for (size_t t = 0; t < model.textures.size(); ++t)
+    if (texture_image(model, int(t)) == image) set_texture_image(model, int(t), image);
 }
 
 void texture_wraps(const tinygltf::Model& model, int texture, int& wrap_s, int& wrap_t) {

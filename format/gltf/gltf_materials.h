@@ -45,8 +45,18 @@ std::vector<int> primitive_materials(const tinygltf::Primitive& prim);
 // material and every KHR_materials_variants mapping that names `from`.
 void replace_primitive_material(tinygltf::Primitive& prim, int from, int to);
 
-// Image index a texture samples, or -1.
+// Image index a texture samples, or -1: its `source`, else the image its
+// EXT_texture_webp names (a WebP image has no core `source`).
 int texture_image(const tinygltf::Model& model, int texture);
+
+// Makes `texture` sample `image`: through `source` for PNG and JPEG, through
+// EXT_texture_webp (declared used and required: there is no fallback image)
+// for a WebP image.
+void set_texture_image(tinygltf::Model& model, int texture, int image);
+
+// set_texture_image on every texture that samples `image` (after its bytes
+// changed coder).
+void point_textures_at_image(tinygltf::Model& model, int image);
 
 // The wrapS and wrapT of a texture's sampler (glTF enums); REPEAT, glTF's
 // default, when the texture has no valid sampler.

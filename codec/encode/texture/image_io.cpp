@@ -2,6 +2,7 @@
 #include "codec/encode/texture/image_io.h"
 
 #include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
 
 #include <algorithm>
@@ -47,6 +48,14 @@ const char* mime_type(ImageCodec c) {
       return "";
   }
 }
+
+ImageCodec codec_of_mime(const std::string& mime) {
+  for (ImageCodec c : {ImageCodec::png, ImageCodec::jpeg, ImageCodec::webp, ImageCodec::ktx2})
+    if (mime == mime_type(c)) return c;
+  return ImageCodec::unknown;
+}
+
+bool lossy_mime(const std::string& mime) { return mime == "image/jpeg" || mime == "image/webp"; }
 
 ImageCodec sniff_image_codec(std::span<const uint8_t> b) {
   static const uint8_t png[8] = {0x89, 'P', 'N', 'G', 0x0D, 0x0A, 0x1A, 0x0A};
@@ -143,27 +152,39 @@ std::string encode_once(const ImageBuf& image, const ImageEncodeOptions& options
   bytes.clear();
   if (!image.initialized()) return "empty image";
   const ImageSpec& src = image.spec();
-  const bool jpeg = options.codec == ImageCodec::jpeg;
-  if (!jpeg && options.codec != ImageCodec::png) return "only PNG and JPEG output are supported";
+  const bool jpeg = options.codec == ImageCodec::jpeg, webp = options.codec == ImageCodec::webp;
+  if (!jpeg && !webp && options.codec != ImageCodec::png)
+    return "only PNG, JPEG and WebP output are supported";
   int nch = src.nchannels;
   if (nch < 1 || nch > 4) return "unsupported channel count";
   if (jpeg && (nch == 2 || nch == 4)) --nch;  // JPEG has no alpha
-  const TypeDesc fmt = (!jpeg && src.format.size() > 1) ? TypeDesc::UINT16 : TypeDesc::UINT8;
+  if (webp && nch < 3) {                      // WebP codes RGB(A): grey (and grey+alpha) go out as RGB (RGBA)
+    const int order[4] = {0, 0, 0, 1};
+    const ImageBuf rgb =
+        OIIO::ImageBufAlgo::channels(image, nch + 2, OIIO::cspan<int>(order, size_t(nch + 2)));
+    return encode_once(rgb, options, png_filter, bytes);
+  }
+  const TypeDesc fmt = (!jpeg && !webp && src.format.size() > 1) ? TypeDesc::UINT16 : TypeDesc::UINT8;
   ImageSpec spec(src.width, src.height, nch, fmt);
   if (nch == 2 || nch == 4) {
     spec.alpha_channel = nch - 1;
     spec.attribute("oiio:UnassociatedAlpha", 1);  // straight alpha in, straight alpha out
   }
+  const std::string quality = std::to_string(std::clamp(options.quality, 1, 100));
   if (jpeg) {
-    spec.attribute("Compression", "jpeg:" + std::to_string(std::clamp(options.jpeg_quality, 1, 100)));
+    spec.attribute("Compression", "jpeg:" + quality);
+  } else if (webp) {
+    spec.attribute("Compression", "webp:" + quality);  // lossy VP8 (OIIO's WebP writer)
   } else {
     spec.attribute("png:compressionLevel", std::clamp(options.png_compression, 0, 9));
     if (png_filter != 0) spec.attribute("png:filter", png_filter);
   }
-  const char* name = jpeg ? "out.jpg" : "out.png";
+  const char* name = jpeg ? "out.jpg" : webp ? "out.webp" : "out.png";
   OIIO::Filesystem::IOVecOutput writer(bytes);
   auto o = ImageOutput::create(name, &writer);
-  if (!o) return "no " + std::string(jpeg ? "JPEG" : "PNG") + " writer: " + OIIO::geterror();
+  if (!o) return "no " + std::string(to_string(options.codec)) + " writer: " + OIIO::geterror();
+  if (!o->supports("ioproxy"))
+    return "the " + std::string(to_string(options.codec)) + " writer cannot write to memory";
   if (!o->open(name, spec)) return "cannot start encoding: " + o->geterror();
   std::vector<uint8_t> row(size_t(src.width) * nch * fmt.size());
   for (int y = 0; y < src.height; ++y) {
@@ -229,11 +250,11 @@ bool decode_image(std::span<const uint8_t> bytes, ImageBuf& pixels, std::string&
   return true;
 }
 
-bool encode_image(const ImageBuf& image, const std::string& mime, int jpeg_quality,
-                  std::vector<uint8_t>& bytes, std::string& error) {
+bool encode_image(const ImageBuf& image, const std::string& mime, int quality, std::vector<uint8_t>& bytes,
+                  std::string& error) {
   ImageEncodeOptions o;
-  o.codec = mime == "image/jpeg" ? ImageCodec::jpeg : ImageCodec::png;
-  o.jpeg_quality = jpeg_quality;
+  o.codec = lossy_mime(mime) ? codec_of_mime(mime) : ImageCodec::png;
+  o.quality = quality;
   error = encode_image(image, o, bytes);
   return error.empty();
 }

@@ -23,6 +23,10 @@ ImageCodec sniff_image_codec(std::span<const uint8_t> bytes);
 
 // glTF mimeType for a codec ("image/png", "image/jpeg", ...; "" for unknown).
 const char* mime_type(ImageCodec c);
+// The codec a mimeType names (unknown for others).
+ImageCodec codec_of_mime(const std::string& mime);
+// JPEG and WebP (as we write it): what a viewer shows is not the pixels coded.
+bool lossy_mime(const std::string& mime);
 
 struct DecodedImage {
   OIIO::ImageBuf pixels;  // first subimage, native format (uint8 or uint16 usually)
@@ -36,8 +40,8 @@ struct DecodedImage {
 std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out);
 
 struct ImageEncodeOptions {
-  ImageCodec codec = ImageCodec::png;  // png or jpeg
-  int jpeg_quality = 90;               // 1..100, IJG scale
+  ImageCodec codec = ImageCodec::png;  // png, jpeg or webp (lossy)
+  int quality = 90;                    // lossy coders, 1..100: JPEG's IJG scale, libwebp's quality
   int png_compression = 9;             // zlib level 0..9
   // PNG: also encode with every row unfiltered and keep the smaller file.
   // libpng's adaptive filter choice suits photographs; flat-coloured art
@@ -47,8 +51,8 @@ struct ImageEncodeOptions {
   bool png_try_unfiltered = true;
 };
 
-// Encodes `image` (1..4 channels; JPEG drops alpha) into `bytes`. Returns ""
-// on success or a one-line error.
+// Encodes `image` (1..4 channels; JPEG drops alpha, WebP keeps it) into
+// `bytes`. Returns "" on success or a one-line error.
 std::string encode_image(const OIIO::ImageBuf& image, const ImageEncodeOptions& options,
                          std::vector<uint8_t>& bytes);
 
@@ -56,8 +60,9 @@ std::string encode_image(const OIIO::ImageBuf& image, const ImageEncodeOptions& 
 // Width and height from the header only (no pixel decode).
 bool image_size(std::span<const uint8_t> bytes, int& width, int& height, std::string& error);
 bool decode_image(std::span<const uint8_t> bytes, OIIO::ImageBuf& pixels, std::string& error);
-// mime "image/jpeg" gives JPEG at jpeg_quality, anything else PNG.
-bool encode_image(const OIIO::ImageBuf& image, const std::string& mime, int jpeg_quality,
+// mime "image/jpeg" or "image/webp" gives that lossy coder at `quality`,
+// anything else PNG.
+bool encode_image(const OIIO::ImageBuf& image, const std::string& mime, int quality,
                   std::vector<uint8_t>& bytes, std::string& error);
 
 // Estimated IJG quality of JPEG bytes from their luminance quantization
