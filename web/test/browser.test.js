@@ -13,6 +13,7 @@
 //   (the 50 dB fallback of issue 18 is for rasterisation-order differences,
 //   which this setup does not have); the PSNR is printed either way.
 // A few models only: CI has 2 cores and these tests share a 3-minute budget.
+// The Duck runs twice, the second time with a WebP atlas (EXT_texture_webp).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { rmSync } from 'node:fs';
@@ -27,9 +28,13 @@ const skip = prerequisites() ?? missing('chromium (/usr/bin/chromium)', chromium
 
 test('browser: plugin output equals the C++ decode, and renders identically', { skip: skip ?? false, timeout: 170000 }, async (t) => {
   const dir = workDir();
-  const models = corpusModels().filter((m) => MODELS.includes(m.name));
-  assert.equal(models.length, MODELS.length, 'the chosen corpus models exist');
-  for (const m of models) encodeAndDecode(m, dir);
+  const corpus = corpusModels().filter((m) => MODELS.includes(m.name));
+  assert.equal(corpus.length, MODELS.length, 'the chosen corpus models exist');
+  for (const m of corpus) encodeAndDecode(m, dir);
+  // The Duck again with a WebP atlas: three.js reads EXT_texture_webp itself.
+  const duck = corpus.find((m) => m.name === 'Duck-Duck.glb');
+  encodeAndDecode(duck, dir, ['--image-format', 'webp', '--image-quality', '80'], 'webp');
+  const models = [...corpus, { ...duck, name: `${duck.name}.webp` }];
   const server = await serveStatic({ '/': webDir, '/models/': dir });
   const browser = await launchBrowser();
   try {
@@ -51,6 +56,12 @@ test('browser: plugin output equals the C++ decode, and renders identically', { 
       assert.ok(r.coverage > 0.02, `${m.name}: the model is in view`);
       assert.ok(r.identical, `${m.name}: identical images (PSNR ${r.psnr} dB)`);
     }
+    // The WebP Duck shows its texture: its render is close to the PNG Duck's
+    // (the same layout, only the coder differs), not a blank or black model.
+    const w = await page.evaluate((e, d) => window.compareModels(e, d), `/models/${duck.name}.dec.glb`,
+      `/models/${duck.name}.webp.dec.glb`);
+    t.diagnostic(`Duck PNG atlas against WebP atlas: PSNR ${w.psnr} dB, coverage ${(100 * w.coverage).toFixed(1)}%`);
+    assert.ok(w.psnr > 30, `WebP Duck renders like the PNG Duck (PSNR ${w.psnr} dB)`);
     assert.deepEqual(errors, []);
   } finally {
     await browser.close();

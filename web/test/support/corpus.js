@@ -42,10 +42,12 @@ export function corpusModels() {
 // Encodes (every textured primitive implicit; low texel density, since the
 // images do not matter for these tests and it keeps the warp fast) and
 // decodes with the CLI. Returns { encoded, decoded } paths in `dir`.
-export function encodeAndDecode(model, dir) {
+// `extra`: more encode arguments; `tag` names the pair apart (model.tag.enc.glb).
+export function encodeAndDecode(model, dir, extra = [], tag = '') {
   const cli = cliPath();
-  const encoded = join(dir, `${model.name}.enc.glb`), decoded = join(dir, `${model.name}.dec.glb`);
-  execFileSync(cli, ['encode', model.path, '-o', encoded, '--always-implicit', '--min-psnr', '0', '--texel-density', '0.25x'],
+  const name = tag ? `${model.name}.${tag}` : model.name;
+  const encoded = join(dir, `${name}.enc.glb`), decoded = join(dir, `${name}.dec.glb`);
+  execFileSync(cli, ['encode', model.path, '-o', encoded, '--always-implicit', '--min-psnr', '0', '--texel-density', '0.25x', ...extra],
     { stdio: ['ignore', 'ignore', 'inherit'] });
   execFileSync(cli, ['decode', encoded, '-o', decoded], { stdio: ['ignore', 'ignore', 'inherit'] });
   return { encoded, decoded };
