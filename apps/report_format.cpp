@@ -34,6 +34,10 @@ std::string fallback_text(const Fallback& f) {
       std::snprintf(line, sizeof line,
                     "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", f.psnr,
                     f.density_factor, f.capped ? " (held by --max-atlas-size)" : "", f.min_psnr);
+      if (f.images_recoded_quality > 0)
+        std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
+                      "; the source images written as %s q%d, as asked", coder_name(f.explicit_image_mime),
+                      f.images_recoded_quality);
       return line;
     case FallbackReason::explicit_smaller:
       if (f.explicit_image_quality > 0) {

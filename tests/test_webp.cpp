@@ -1,5 +1,5 @@
 // WebP output (issue 16, item 3): the coder in memory, and encodes that ask
-// for it: atlases, and the source images of a group that keeps explicit UVs,
+// for it (or for JPEG): atlases, and the source images of a group that keeps explicit UVs,
 // are WebP, named through EXT_texture_webp (declared required: there is no
 // fallback image), and the Khronos validator accepts the files.
 #include <gtest/gtest.h>
@@ -140,6 +140,34 @@ TEST(WebP, EncodedFilesNameTheirWebpImagesThroughTheExtension) {
       const test::ValidatorResult vd = test::validate(dec);
       EXPECT_EQ(vd.errors, 0) << vd.raw;
     }
+  }
+}
+
+// Asked for a lossy coder at a low quality, a group whose atlas stays below
+// the quality floor keeps explicit UVs, and its source images still come
+// out in the coder and quality asked, not as the PNG they were
+// (TwoSidedPlane at JPEG q10 kept its 156 KB PNG).
+TEST(WebP, BelowFloorFallbackWritesTheCoderAsked) {
+  for (const std::string format : {"jpeg", "webp"}) {
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model("sphere", 1500, 256, model), "");
+    EncodeOptions o;
+    o.image_format = format;
+    o.image_quality = 10;
+    EncodeReport report;
+    ASSERT_EQ(encode_model(model, o, report).message, "");
+    bool below_floor = false;
+    for (const PrimitiveReport& p : report.primitives)
+      if (p.handling == Handling::fallback && p.fallback.reason == FallbackReason::below_quality_floor) {
+        below_floor = true;
+        EXPECT_EQ(p.fallback.images_recoded_quality, 10);
+      }
+    ASSERT_TRUE(below_floor) << "precondition: the busy texture at q10 stays below the floor (" << format
+                             << ")";
+    const std::string mime = "image/" + format;
+    for (const tinygltf::Image& img : model.images) EXPECT_EQ(img.mimeType, mime) << img.name;
+    size_t webp_textures = 0;
+    expect_webp_textures_well_formed(model, webp_textures);
   }
 }
 

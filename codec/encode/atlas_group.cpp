@@ -389,6 +389,13 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.density_factor = built.report.density_factor;
       why.capped = built.capped;
       why.min_psnr = min_psnr;
+      // Asked for JPEG q10, the user gets JPEG q10 sources, not the PNG
+      // they gave (TwoSidedPlane: 157,852 B at 99 dB kept for a q10 encode).
+      const std::set<int> replaceable = replaceable_images(model, group, built);
+      if (Error e = recode_sources_as_asked(model, options, lossy_sources(model, group, options, replaceable),
+                                            sources, why);
+          e.failed())
+        return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
@@ -403,9 +410,9 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       explicit_bytes += explicit_geometry_bytes(model, ip, options);
     }
     EqualQualityImages alternative;
-    if (Error e =
-            equal_quality_images(model, plan, group, built, options, sources,
-                                 replaceable_images(model, group, built), built.floor_psnr(), alternative);
+    const std::set<int> replaceable = replaceable_images(model, group, built);
+    if (Error e = equal_quality_images(model, plan, group, built, options, sources, replaceable,
+                                       built.floor_psnr(), alternative);
         e.failed())
       return e;
     explicit_bytes += alternative.bytes;
@@ -423,21 +430,10 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_psnr = alternative.psnr;
       why.explicit_image_quality = alternative.quality;
       why.explicit_image_mime = alternative.mime;
-      // Asked for JPEG or WebP images, the user gets them with explicit UVs
-      // too, at the quality asked (the images only this group samples).
-      if (options.image_format == "jpeg" || options.image_format == "webp")
-        for (const auto& [image, quality] : alternative.lossy_quality) {
-          SourceImage* decoded = nullptr;
-          if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
-          std::vector<uint8_t> bytes;
-          std::string err;
-          if (!encode_image(decoded->pixels, alternative.mime, quality, bytes, err))
-            return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
-          model.images[size_t(image)].image = std::move(bytes);
-          model.images[size_t(image)].mimeType = alternative.mime;
-          point_textures_at_image(model, image);
-          why.images_recoded_quality = quality;
-        }
+      if (Error e = recode_sources_as_asked(model, options, lossy_sources(model, group, options, replaceable),
+                                            sources, why);
+          e.failed())
+        return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }

@@ -53,8 +53,9 @@ struct Fallback {
   double explicit_psnr = 0;
   int explicit_image_quality = 0;
   std::string explicit_image_mime;
-  // explicit_smaller with --image-format jpeg or webp: the source images
-  // were written with that coder at this quality (0: left as they were).
+  // explicit_smaller or below_quality_floor with --image-format jpeg or webp:
+  // the source images were written with that coder at this quality (0: left
+  // as they were).
   int images_recoded_quality = 0;
   // texture_repeats: the source texels the faces cover, each use counted
   // (what the atlas would hold), and the texels of the images they sample.

@@ -31,17 +31,43 @@ struct Coded {
 
 }  // namespace
 
-Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                           const GroupAtlas& built, const EncodeOptions& options, SourceImages& sources,
-                           const std::set<int>& images, double target_psnr, EqualQualityImages& out) {
-  out = {};
+LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
+                           const EncodeOptions& options, const std::set<int>& images) {
   // The first colour slot through which each image is shown decides its coding and sampler.
-  std::map<int, std::pair<SlotSource, SlotCoding>> lossy;
+  LossySources lossy;
   for (const SlotSource& source : slot_sources(model, group)) {
     if (!images.count(source.image) || lossy.count(source.image)) continue;
     if (SlotCoding coding = slot_coding(model, source, options); coding.lossy)
       lossy.emplace(source.image, std::pair{source, std::move(coding)});
   }
+  return lossy;
+}
+
+Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
+                              SourceImages& sources, Fallback& why) {
+  if (options.image_format != "jpeg" && options.image_format != "webp") return {};
+  for (const auto& [image, source_coding] : lossy) {
+    const SlotCoding& coding = source_coding.second;
+    SourceImage* decoded = nullptr;
+    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+    std::vector<uint8_t> bytes;
+    std::string err;
+    if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
+      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+    model.images[size_t(image)].image = std::move(bytes);
+    model.images[size_t(image)].mimeType = coding.mime;
+    point_textures_at_image(model, image);
+    why.images_recoded_quality = coding.quality;
+    why.explicit_image_mime = coding.mime;
+  }
+  return {};
+}
+
+Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                           const GroupAtlas& built, const EncodeOptions& options, SourceImages& sources,
+                           const std::set<int>& images, double target_psnr, EqualQualityImages& out) {
+  out = {};
+  const LossySources lossy = lossy_sources(model, group, options, images);
   for (int image : images) {
     const size_t as_is = model.images[size_t(image)].image.size();
     auto it = lossy.find(image);
@@ -54,7 +80,6 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     const SlotCoding& coding = it->second.second;
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
-    out.lossy_quality[image] = coding.quality;
     out.mime = coding.mime;
     const bool srgb = source.slot.color_space == ColorSpace::srgb;
     const TextureSampler& before = source_sampler(source, coding, *decoded);

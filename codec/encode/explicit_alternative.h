@@ -25,12 +25,22 @@ struct EqualQualityImages {
   double psnr = 0;        // their worst surface PSNR (0: as they are, lossless)
   int quality = 0;        // the coder's quality found (0: none re-encoded)
   bool searched = false;  // a lossy image was re-encoded
-  // The images the atlas would code lossily, with the quality it would use
-  // (the user's) and the coder (mime): what keeping explicit UVs re-encodes
-  // them with when the user asked for JPEG or WebP.
-  std::map<int, int> lossy_quality;
-  std::string mime;
+  std::string mime;       // the lossy coder's mimeType, where one was searched
 };
+
+// The images among `images` that the group's atlas would code lossily (a
+// JPEG or WebP colour slot), each with the first such slot and its coding.
+using LossySources = std::map<int, std::pair<SlotSource, SlotCoding>>;
+LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
+                           const EncodeOptions& options, const std::set<int>& images);
+
+// A group that keeps explicit UVs, when the user asked for JPEG or WebP
+// images (--image-format), gets its lossy-coded source images in that coder
+// at the quality asked, like an atlas would have: `lossy` from
+// lossy_sources. Sets why.images_recoded_quality and explicit_image_mime.
+// Nothing happens with --image-format keep or png.
+Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
+                              SourceImages& sources, Fallback& why);
 
 // target_psnr: the atlas's floor_psnr(). `images`: the source images the
 // atlas would replace (replaceable_source_bytes' set).
