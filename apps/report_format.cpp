@@ -15,6 +15,15 @@ std::string primitive_name(int mesh, int primitive) {
 // "JPEG", "WebP": the lossy coder a mimeType names, as the report prints it.
 const char* coder_name(const std::string& mime) { return mime == "image/webp" ? "WebP" : "JPEG"; }
 
+// Appends, when a fallback recoded the source images (--image-format
+// jpeg|webp), which coder and quality they were written with.
+void append_recoded(char* line, size_t size, const Fallback& f) {
+  if (f.images_recoded_quality <= 0) return;
+  const size_t used = std::strlen(line);
+  std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
+                coder_name(f.explicit_image_mime), f.images_recoded_quality);
+}
+
 }  // namespace
 
 std::string fallback_text(const Fallback& f) {
@@ -34,10 +43,7 @@ std::string fallback_text(const Fallback& f) {
       std::snprintf(line, sizeof line,
                     "the warped atlas reached %.1f dB at %.3gx density%s, below --min-psnr %.1f", f.psnr,
                     f.density_factor, f.capped ? " (held by --max-atlas-size)" : "", f.min_psnr);
-      if (f.images_recoded_quality > 0)
-        std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
-                      "; the source images written as %s q%d, as asked", coder_name(f.explicit_image_mime),
-                      f.images_recoded_quality);
+      append_recoded(line, sizeof line, f);
       return line;
     case FallbackReason::explicit_smaller:
       if (f.explicit_image_quality > 0) {
@@ -46,10 +52,7 @@ std::string fallback_text(const Fallback& f) {
                       "(%.1f dB), against %zu with the implicit map and a %.1f dB atlas",
                       f.explicit_bytes, coder_name(f.explicit_image_mime), f.explicit_image_quality,
                       f.explicit_psnr, f.implicit_bytes, f.psnr);
-        if (f.images_recoded_quality > 0)
-          std::snprintf(line + std::strlen(line), sizeof line - std::strlen(line),
-                        "; the source images written as %s q%d, as asked", coder_name(f.explicit_image_mime),
-                        f.images_recoded_quality);
+        append_recoded(line, sizeof line, f);
       } else {
         std::snprintf(line, sizeof line,
                       "smaller: %zu bytes of geometry and the source images as they are, against %zu with "

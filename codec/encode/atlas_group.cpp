@@ -411,7 +411,8 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     }
     EqualQualityImages alternative;
     const std::set<int> replaceable = replaceable_images(model, group, built);
-    if (Error e = equal_quality_images(model, plan, group, built, options, sources, replaceable,
+    const LossySources lossy = lossy_sources(model, group, options, replaceable);
+    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy,
                                        built.floor_psnr(), alternative);
         e.failed())
       return e;
@@ -430,10 +431,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_psnr = alternative.psnr;
       why.explicit_image_quality = alternative.quality;
       why.explicit_image_mime = alternative.mime;
-      if (Error e = recode_sources_as_asked(model, options, lossy_sources(model, group, options, replaceable),
-                                            sources, why);
-          e.failed())
-        return e;
+      if (Error e = recode_sources_as_asked(model, options, lossy, sources, why); e.failed()) return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }

@@ -48,7 +48,8 @@ struct Fallback {
   // explicit_smaller: geometry and images with explicit UVs at the atlas's
   // quality, against those with the implicit map (bytes); the source images'
   // surface PSNR and coder quality there (0: kept as they are, lossless),
-  // the coder's mimeType (image/jpeg or image/webp).
+  // the coder's mimeType (image/jpeg or image/webp; also the coder the
+  // sources were recoded with, images_recoded_quality).
   size_t explicit_bytes = 0, implicit_bytes = 0;
   double explicit_psnr = 0;
   int explicit_image_quality = 0;

@@ -64,10 +64,9 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
 }
 
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                           const GroupAtlas& built, const EncodeOptions& options, SourceImages& sources,
-                           const std::set<int>& images, double target_psnr, EqualQualityImages& out) {
+                           const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
+                           const LossySources& lossy, double target_psnr, EqualQualityImages& out) {
   out = {};
-  const LossySources lossy = lossy_sources(model, group, options, images);
   for (int image : images) {
     const size_t as_is = model.images[size_t(image)].image.size();
     auto it = lossy.find(image);

@@ -43,9 +43,10 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
                               SourceImages& sources, Fallback& why);
 
 // target_psnr: the atlas's floor_psnr(). `images`: the source images the
-// atlas would replace (replaceable_source_bytes' set).
+// atlas would replace (replaceable_images' set); `lossy`: lossy_sources of
+// them (the caller keeps it for recode_sources_as_asked).
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                           const GroupAtlas& built, const EncodeOptions& options, SourceImages& sources,
-                           const std::set<int>& images, double target_psnr, EqualQualityImages& out);
+                           const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
+                           const LossySources& lossy, double target_psnr, EqualQualityImages& out);
 
 }  // namespace gltfwarp
