@@ -26,6 +26,16 @@ struct PatchPlacement {
   int32_t x = 0, y = 0;    // translation in texels, 0 <= x <= atlas_width, 0 <= y <= atlas_height
   uint32_t page = 0;       // atlas page, < page_count (0 unless page_count > 1)
   int32_t scale_step = 0;  // per-patch scale code in [kMinScaleStep, kMaxScaleStep], 0 = texel_scale alone
+  // Format 1.3, a fine placement: the patch shares texels another patch
+  // already holds (texel reuse), so it must land on them to a fraction of a
+  // texel. Then (cos_q, sin_q) / 2^15 replaces R(rotation) (a rotation, and
+  // the small scale that makes two nearly congruent layouts match),
+  // (x + x_frac / 256, y + y_frac / 256) the translation, and `mirror`
+  // negates the patch-local y first (mirrored halves of a model).
+  bool fine = false;
+  bool mirror = false;
+  int32_t cos_q = 0, sin_q = 0;     // in [-kFineUnit * 2, kFineUnit * 2], not both 0
+  uint32_t x_frac = 0, y_frac = 0;  // 0..255; x_frac = 0 when x = atlas_width (likewise y)
 
   friend bool operator==(const PatchPlacement&, const PatchPlacement&) = default;
 };
@@ -62,6 +72,9 @@ constexpr int32_t kMaxScaleStep = 32;   // ... to 2^8
 // angle 2*pi*r/kRotationSteps. Values come from a literal table (correctly
 // rounded doubles), so every platform gets the same bits.
 constexpr uint32_t kRotationSteps = 256;
+// Fine placements (1.3): cos_q, sin_q count 1/kFineUnit; x_frac, y_frac 1/kFineFracSteps of a texel.
+constexpr int32_t kFineUnit = 32768;
+constexpr uint32_t kFineFracSteps = 256;
 void rotation_cos_sin(uint32_t code, double& c, double& s);  // code is taken mod kRotationSteps
 // Encoder side: the code nearest to an angle in radians (any value; wraps).
 uint32_t rotation_code_for(double radians);
