@@ -15,6 +15,7 @@
 #include "golden/uvmap_v1_0.h"
 #include "golden/uvmap_v1_1.h"
 #include "golden/uvmap_v1_2.h"
+#include "golden/uvmap_v1_3.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -95,6 +96,38 @@ UvMap golden_map_v1_2(const TriMesh& m) {
   map.solve.tutte_iterations = 24;
   map.solve.arap_iterations = 4;
   map.solve.arap_cg_iterations = 8;
+  return map;
+}
+
+// The golden 1.3 map: the 1.2 map with four fine placements (two mirrored,
+// all with sub-texel fractions, one at the extreme sin_q = -2 * kFineUnit),
+// on unfold and solve patches, some with per-patch scales; patches 0, 1, 3,
+// 4, 7 and 8 keep their coarse placements.
+struct FineSpec {
+  uint32_t patch;
+  bool mirror;
+  int32_t cos_q, sin_q;
+  uint32_t x_frac, y_frac;
+};
+constexpr FineSpec kGoldenFine[] = {
+    {2, false, 28000, -17000, 77, 200},   // unfold, 2 faces, scale step 0
+    {5, true, kFineUnit, 0, 0, 128},      // unfold, 2 faces, mirrored, scale step -2
+    {6, true, -20000, 30000, 255, 1},     // solve, 32 faces, mirrored, scale step -1
+    {9, false, 0, -2 * kFineUnit, 5, 0},  // solve, 1 face, scale step 2
+};
+
+UvMap golden_map_v1_3(const TriMesh& m) {
+  UvMap map = golden_map_v1_2(m);
+  for (const FineSpec& f : kGoldenFine) {
+    PatchPlacement& pl = map.placements[f.patch];
+    pl.fine = true;
+    pl.rotation = 0;
+    pl.mirror = f.mirror;
+    pl.cos_q = f.cos_q;
+    pl.sin_q = f.sin_q;
+    pl.x_frac = f.x_frac;
+    pl.y_frac = f.y_frac;
+  }
   return map;
 }
 
@@ -255,10 +288,85 @@ TEST(BitstreamGolden, V1_2SolveOnANonDiscPatchIsRejected) {
   ASSERT_EQ(rounds[24], 4);
   rounds[24] = kMaxSolveRounds + 1;
   EXPECT_EQ(decode_uvs(mesh, rounds, uv), UvStatus::bad_value);
+  auto minor4 = bytes;
+  minor4[5] = 4;
+  EXPECT_EQ(decode_uvs(mesh, minor4, uv), UvStatus::unsupported_version);
+  // Read as 1.3 (no FINE flag) it decodes to the same floats.
   auto minor3 = bytes;
   minor3[5] = 3;
-  EXPECT_EQ(decode_uvs(mesh, minor3, uv), UvStatus::unsupported_version);
+  std::vector<float> uv12, uv13;
+  ASSERT_EQ(decode_uvs(mesh, bytes, uv12), UvStatus::ok);
+  ASSERT_EQ(decode_uvs(mesh, minor3, uv13), UvStatus::ok);
+  EXPECT_EQ(uv13, uv12);
   UvMap map = golden_map_v1_2(mesh);
   map.solve.arap_iterations = kMaxSolveRounds + 1;
   EXPECT_EQ(write_uvmap(map, mesh, bytes), UvStatus::bad_argument);
+}
+
+TEST(BitstreamGolden, WriterReproducesV1_3Bytes) {
+  const TriMesh mesh = golden_mesh();
+  const UvMap map = golden_map_v1_3(mesh);
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3));
+  EXPECT_EQ(bytes, golden) << "writer output changed; new bytes:\n" << hex(bytes);
+}
+
+TEST(BitstreamGolden, V1_3DecodesToFrozenUvs) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3));
+  ASSERT_GT(golden.size(), 6u);
+  EXPECT_EQ(golden[5], 3);
+  EXPECT_EQ(golden[6], 0x1f);
+  UvMap map;
+  std::vector<float> uv;
+  ASSERT_EQ(decode_uvs(mesh, golden, uv, &map), UvStatus::ok);
+  EXPECT_EQ(map, golden_map_v1_3(mesh));
+  ASSERT_EQ(uv.size(), size_t{mesh.face_count()} * 6);
+  const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
+  EXPECT_EQ(h, golden::kUvMapV1_3UvHash) << std::hex << "0x" << h;
+  // Coarse patches decode exactly as in the 1.2 stream; every fine patch moves.
+  std::vector<float> uv12;
+  ASSERT_EQ(
+      decode_uvs(mesh, std::vector<uint8_t>(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2)),
+                 uv12),
+      UvStatus::ok);
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const bool eq = std::equal(&uv[6 * f], &uv[6 * f + 6], &uv12[6 * f]);
+    EXPECT_EQ(eq, !map.placements[map.patch_of_face[f]].fine) << "face " << f;
+  }
+  // A mirrored patch reverses the winding of its faces in the atlas; the
+  // others keep it (the golden faces are all positively oriented in 1.2).
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const float* c = &uv[6 * f];
+    const double area =
+        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
+    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
+    if (pl.fine && pl.mirror)
+      EXPECT_LT(area, 0.0) << "face " << f;
+    else
+      EXPECT_GT(area, 0.0) << "face " << f;
+  }
+}
+
+TEST(BitstreamGolden, V1_3EveryTruncationIsRejected) {
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3)));
+}
+
+TEST(BitstreamGolden, V1_3HeaderRules) {
+  // FINE under an older minor is a reserved bit; minor 4 is newer than this decoder.
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> bytes(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3));
+  std::vector<float> uv;
+  for (uint8_t minor : {0, 1, 2}) {
+    auto older = bytes;
+    older[5] = minor;
+    EXPECT_EQ(decode_uvs(mesh, older, uv), UvStatus::reserved_bits) << int(minor);
+  }
+  auto minor4 = bytes;
+  minor4[5] = 4;
+  EXPECT_EQ(decode_uvs(mesh, minor4, uv), UvStatus::unsupported_version);
+  auto bit5 = bytes;
+  bit5[6] |= 0x20;
+  EXPECT_EQ(decode_uvs(mesh, bit5, uv), UvStatus::reserved_bits);
 }

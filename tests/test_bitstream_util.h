@@ -146,6 +146,40 @@ inline void add_random_seeds(UvMap& map, std::mt19937& rng) {
   for (uint32_t p = 0; p < map.patch_count; ++p) map.seeds[p] = faces[p][rng() % faces[p].size()];
 }
 
+// Format 1.3: about one patch in `one_in` gets a random fine placement
+// (any valid cos_q, sin_q, fractions and mirror; rotation 0, as the writer
+// requires of a fine patch).
+inline void add_random_fine(UvMap& map, std::mt19937& rng, uint32_t one_in = 2) {
+  const int32_t max = 2 * kFineUnit;
+  for (PatchPlacement& pl : map.placements) {
+    if (rng() % one_in != 0) continue;
+    pl.fine = true;
+    pl.rotation = 0;
+    pl.mirror = rng() % 2 == 1;
+    do {
+      // Often the extremes and the unit, else anywhere in range.
+      const auto pick = [&]() -> int32_t {
+        switch (rng() % 6) {
+          case 0:
+            return -max;
+          case 1:
+            return max;
+          case 2:
+            return kFineUnit;
+          case 3:
+            return 0;
+          default:
+            return static_cast<int32_t>(rng() % (2 * uint32_t(max) + 1)) - max;
+        }
+      };
+      pl.cos_q = pick();
+      pl.sin_q = pick();
+    } while (pl.cos_q == 0 && pl.sin_q == 0);
+    pl.x_frac = static_cast<uint32_t>(pl.x) == map.atlas_width ? 0 : rng() % kFineFracSteps;
+    pl.y_frac = static_cast<uint32_t>(pl.y) == map.atlas_height ? 0 : rng() % kFineFracSteps;
+  }
+}
+
 inline uint64_t fnv1a(const void* data, size_t n) {
   uint64_t h = 0xcbf29ce484222325ull;
   const auto* p = static_cast<const uint8_t*>(data);

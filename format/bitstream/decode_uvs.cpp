@@ -31,22 +31,41 @@ UvStatus from_layout_status(LayoutStatus s) {
 
 namespace {
 
-// One patch's placement as the four numbers every corner of it uses.
+// One patch's placement as the numbers every corner of it uses.
 struct PatchTransform {
   double sc = 0, ss = 0, tx0 = 0, ty0 = 0;
+  bool mirror = false;
 };
 
 PatchTransform patch_transform(const UvMap& map, const PatchPlacement& pl) {
-  double c, s;
-  rotation_cos_sin(pl.rotation, c, s);
+  double c, s, x = static_cast<double>(pl.x), y = static_cast<double>(pl.y);
+  if (pl.fine) {
+    // 1.3: these four are exact (a power-of-two scaling; x <= 2^16 plus 8
+    // fraction bits), so a fine placement that repeats a coarse one
+    // (cos_q = 2^15, sin_q = 0, no fraction) gives the coarse one's bits.
+    c = static_cast<double>(pl.cos_q) * 0x1p-15;
+    s = static_cast<double>(pl.sin_q) * 0x1p-15;
+    x += static_cast<double>(pl.x_frac) * 0x1p-8;
+    y += static_cast<double>(pl.y_frac) * 0x1p-8;
+  } else {
+    rotation_cos_sin(pl.rotation, c, s);
+  }
   const double scale = static_cast<double>(map.texel_scale) * patch_scale(pl.scale_step);
-  return {scale * c, scale * s, static_cast<double>(pl.x), static_cast<double>(pl.y)};
+  return {scale * c, scale * s, x, y, pl.fine && pl.mirror};
 }
 
-// texel = s R(rotation) p + (x, y), then divided by the atlas size.
+// texel = s R p' + (x, y), p' = p or (for a mirrored fine patch) p with its
+// y negated (exactly, sign of zero included).
+inline void corner_texel(const PatchTransform& t, double px, double py, double& tx, double& ty) {
+  if (t.mirror) py = -py;
+  tx = (t.sc * px - t.ss * py) + t.tx0;
+  ty = (t.ss * px + t.sc * py) + t.ty0;
+}
+
+// The texel divided by the atlas size, rounded once to float.
 inline void place_corner(const PatchTransform& t, double w, double h, double px, double py, float* uv) {
-  const double tx = (t.sc * px - t.ss * py) + t.tx0;
-  const double ty = (t.ss * px + t.sc * py) + t.ty0;
+  double tx, ty;
+  corner_texel(t, px, py, tx, ty);
   uv[0] = static_cast<float>(tx / w);
   uv[1] = static_cast<float>(ty / h);
 }
@@ -70,6 +89,11 @@ struct UvSink {
 };
 
 }  // namespace
+
+void placement_texel(const UvMap& map, const PatchPlacement& pl, double px, double py, double& tx,
+                     double& ty) {
+  corner_texel(patch_transform(map, pl), px, py, tx, ty);
+}
 
 UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map,
                           std::vector<float>& corner_uv) {

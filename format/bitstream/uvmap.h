@@ -94,7 +94,7 @@ enum class UvStatus : uint8_t {
   face_count_mismatch,      // the stream was written for a mesh with another face count
   bad_count,                // a count or a size out of its range (patches, pages, atlas, section size)
   bad_value,                // a field out of its range (float not finite, translation, scale, id)
-  reserved_bits,            // a flags bit that version 1.0 reserves is set
+  reserved_bits,            // a flags bit that the stream's version reserves is set
   bad_mesh,                 // the mesh has an index >= vertex_count
   bad_argument,             // caller error: corner_xy size, UvMap fields inconsistent (writer)
   layout_bad_patch_id,      // layout_patches reported bad_patch_id

@@ -1,4 +1,4 @@
-// GLTFWARP_implicit_texcoords bitstream 1.0 (spec/README.md): writer and reader.
+// GLTFWARP_implicit_texcoords bitstream 1.3 (spec/README.md): writer and reader.
 // Partition coding: connectivity-predicted patch ids, face by face, with an
 // adaptive binary range coder (range_coder.h, after the LZMA SDK's rc).
 #include "format/bitstream/uvmap_codec.h"
@@ -239,7 +239,8 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
     return UvStatus::unsupported_version;
   GW_TRY(r.u8(info.flags));
   const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0) |
-                        (info.version_minor >= 2 ? kUvFlagMethods : 0);
+                        (info.version_minor >= 2 ? kUvFlagMethods : 0) |
+                        (info.version_minor >= 3 ? kUvFlagFine : 0);
   if (info.flags & ~known) return UvStatus::reserved_bits;
   GW_TRY(r.varint(info.face_count));
   GW_TRY(r.f32(info.tau));
@@ -292,6 +293,57 @@ struct ScaleModel {
   rc::BitModel magnitude[rc::kEgPrefix];
 };
 
+// ---- fine placements (1.3) ------------------------------------------------------
+// cos_q and sin_q are coded as cos_q + 2 * kFineUnit over all 4 * kFineUnit + 1
+// values of [-2 * kFineUnit, 2 * kFineUnit] (more than uniform()'s 2^16: uniform32).
+constexpr uint64_t kFineCodes = 4 * uint64_t{kFineUnit} + 1;
+constexpr int32_t kFineMax = 2 * kFineUnit;
+
+// The rules of spec section 4.3 a fine placement obeys: (cos_q, sin_q) in
+// range and not both 0 (no direction), and no fraction past the page's far
+// edge (x = W or y = H already is the edge). `x`, `y` are already in range.
+bool fine_fields_ok(const PatchPlacement& pl, uint32_t w, uint32_t h) {
+  if (pl.cos_q < -kFineMax || pl.cos_q > kFineMax || pl.sin_q < -kFineMax || pl.sin_q > kFineMax)
+    return false;
+  if (pl.cos_q == 0 && pl.sin_q == 0) return false;
+  if (pl.x_frac >= kFineFracSteps || pl.y_frac >= kFineFracSteps) return false;
+  if (pl.x_frac != 0 && static_cast<uint32_t>(pl.x) == w) return false;
+  if (pl.y_frac != 0 && static_cast<uint32_t>(pl.y) == h) return false;
+  return true;
+}
+
+// A coarse placement carries no fine field, and a fine one no rotation code
+// (the stream codes it as 0 and the decoder ignores it), so the map a
+// reader returns is the map written, field for field.
+bool placement_fields_ok(const PatchPlacement& pl, uint32_t w, uint32_t h) {
+  if (pl.fine) return pl.rotation == 0 && fine_fields_ok(pl, w, h);
+  return !pl.mirror && pl.cos_q == 0 && pl.sin_q == 0 && pl.x_frac == 0 && pl.y_frac == 0;
+}
+
+void write_fine(rc::Encoder& e, rc::BitModel& fine_model, const PatchPlacement& pl) {
+  e.bit(fine_model, pl.fine ? 1 : 0);
+  if (!pl.fine) return;
+  e.equiprobable(pl.mirror ? 1 : 0);
+  e.uniform32(static_cast<uint32_t>(pl.cos_q + kFineMax), kFineCodes);
+  e.uniform32(static_cast<uint32_t>(pl.sin_q + kFineMax), kFineCodes);
+  e.uniform(pl.x_frac, kFineFracSteps);
+  e.uniform(pl.y_frac, kFineFracSteps);
+}
+
+// Reads the fine fields after `method`; x and y are already decoded.
+UvStatus read_fine(rc::Decoder& d, rc::BitModel& fine_model, uint32_t w, uint32_t h, PatchPlacement& pl) {
+  if (d.bit(fine_model) == 0) return UvStatus::ok;
+  pl.fine = true;
+  pl.rotation = 0;  // coded before `fine` and ignored for a fine patch
+  pl.mirror = d.equiprobable() == 1;
+  pl.cos_q = static_cast<int32_t>(d.uniform32(kFineCodes)) - kFineMax;
+  pl.sin_q = static_cast<int32_t>(d.uniform32(kFineCodes)) - kFineMax;
+  pl.x_frac = d.uniform(kFineFracSteps);
+  pl.y_frac = d.uniform(kFineFracSteps);
+  if (d.failed()) return UvStatus::ok;  // the caller reports the coder's error first
+  return fine_fields_ok(pl, w, h) ? UvStatus::ok : UvStatus::bad_value;
+}
+
 }  // namespace
 
 // ---- validation --------------------------------------------------------------------
@@ -329,6 +381,7 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh) {
     if (pl.x < 0 || static_cast<uint32_t>(pl.x) > map.atlas_width || pl.y < 0 ||
         static_cast<uint32_t>(pl.y) > map.atlas_height)
       return UvStatus::bad_argument;
+    if (!placement_fields_ok(pl, map.atlas_width, map.atlas_height)) return UvStatus::bad_argument;
   }
   return UvStatus::ok;
 }
@@ -397,6 +450,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   for (const PatchPlacement& pl : map.placements) {
     if (pl.rotation != 0) flags |= kUvFlagRotations;
     if (pl.scale_step != 0) flags |= kUvFlagScales;
+    if (pl.fine) flags |= kUvFlagFine;
   }
   if (!map.seeds.empty()) flags |= kUvFlagSeeds;
   if (any_solve(map)) flags |= kUvFlagMethods;
@@ -414,7 +468,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   rc::Encoder ce;
   {
     ScaleModel sm;
-    rc::BitModel method_model;
+    rc::BitModel method_model, fine_model;
     for (uint32_t p = 0; p < map.patch_count; ++p) {
       const PatchPlacement& pl = map.placements[p];
       if (flags & kUvFlagRotations) ce.uniform(pl.rotation, kRotationSteps);
@@ -430,6 +484,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
       }
       if (flags & kUvFlagSeeds) ce.uniform32(seed_rank[p], patch_faces[p]);
       if (flags & kUvFlagMethods) ce.bit(method_model, map.methods[p]);
+      if (flags & kUvFlagFine) write_fine(ce, fine_model, pl);
     }
   }
   const std::vector<uint8_t> place = ce.finish();
@@ -438,9 +493,10 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   out.reserve(40 + part.size() + place.size());
   for (const uint8_t b : kUvMagic) out.push_back(b);
   out.push_back(kUvVersionMajor);
-  out.push_back((flags & kUvFlagMethods) ? 2
-                : (flags & kUvFlagSeeds) ? 1
-                                         : 0);  // the oldest minor that reads it
+  out.push_back((flags & kUvFlagFine)      ? 3
+                : (flags & kUvFlagMethods) ? 2
+                : (flags & kUvFlagSeeds)   ? 1
+                                           : 0);  // the oldest minor that reads it
   out.push_back(flags);
   put_varint(out, nf);
   put_f32(out, map.tau);
@@ -560,7 +616,7 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
   {
     rc::Decoder cd(place);
     ScaleModel sm;
-    rc::BitModel method_model;
+    rc::BitModel method_model, fine_model;
     for (uint32_t p = 0; p < out.patch_count; ++p) {
       PatchPlacement& pl = out.placements[p];
       if (info.flags & kUvFlagRotations) pl.rotation = cd.uniform(kRotationSteps);
@@ -582,6 +638,7 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
         out.seeds[p] = face_list[patch_start[p] + cd.uniform32(n)];
       }
       if (info.flags & kUvFlagMethods) out.methods[p] = static_cast<uint8_t>(cd.bit(method_model));
+      if (info.flags & kUvFlagFine) GW_TRY(read_fine(cd, fine_model, out.atlas_width, out.atlas_height, pl));
       if (cd.failed()) return rc_status(cd);
     }
     GW_TRY(rc_status(cd));

@@ -1,4 +1,4 @@
-// The GLTFWARP_implicit_texcoords bitstream, format version 1.0: writer and
+// The GLTFWARP_implicit_texcoords bitstream, format version 1.3: writer and
 // reader of a UvMap. spec/README.md is the normative description; this is
 // its reference implementation.
 //
@@ -25,12 +25,13 @@ namespace gltfwarp {
 
 constexpr uint8_t kUvMagic[4] = {'G', 'W', 'U', 'V'};
 constexpr uint8_t kUvVersionMajor = 1;
-constexpr uint8_t kUvVersionMinor = 2;  // the newest minor this reader knows
+constexpr uint8_t kUvVersionMinor = 3;  // the newest minor this reader knows
 // Header flag bits (all others are reserved and must be 0).
 constexpr uint8_t kUvFlagRotations = 1u << 0;  // per-patch rotation codes are present
 constexpr uint8_t kUvFlagScales = 1u << 1;     // per-patch scale steps are present
 constexpr uint8_t kUvFlagSeeds = 1u << 2;      // per-patch seeds are present (minor >= 1)
 constexpr uint8_t kUvFlagMethods = 1u << 3;    // solve parameters and per-patch methods (minor >= 2)
+constexpr uint8_t kUvFlagFine = 1u << 4;       // per-patch fine placements (minor >= 3)
 
 // Header fields and section sizes, read without the mesh (for `gltf-warp info`).
 struct UvStreamInfo {
@@ -51,10 +52,11 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh);
 
 // Writes the bitstream. The flags are chosen from the content (rotations are
 // written only if some rotation is non-zero, scales only if some step is,
-// seeds only if map.seeds is not empty, methods only if some patch solves).
-// The version is the lowest that expresses the stream: without seeds or
-// solve patches 1.0, byte for byte what a 1.0 writer produced; with seeds
-// 1.1; with a solve patch 1.2.
+// seeds only if map.seeds is not empty, methods only if some patch solves,
+// fine placements only if some placement is fine). The version is the lowest
+// that expresses the stream: without seeds, solve patches or fine placements
+// 1.0, byte for byte what a 1.0 writer produced; with seeds 1.1; with a solve
+// patch 1.2; with a fine placement 1.3.
 UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>& out);
 // Same, throwing std::invalid_argument (with to_string of the status) on error.
 std::vector<uint8_t> write_uvmap(const UvMap& map, const TriMesh& mesh);
