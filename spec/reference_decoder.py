@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
-"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.2
-(and so 1.1 and 1.0), written from spec/README.md alone (not from the C++). It
-decodes the golden streams of tests/golden/uvmap_v1_0.h (1.0), uvmap_v1_1.h
-(1.1, per-patch seeds) and uvmap_v1_2.h (1.2, patches laid out by solve) on
+"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.3
+(and so 1.2, 1.1 and 1.0), written from spec/README.md alone (not from the
+C++). It decodes the golden streams of tests/golden/uvmap_v1_0.h (1.0),
+uvmap_v1_1.h (1.1, per-patch seeds), uvmap_v1_2.h (1.2, patches laid out by
+solve) and uvmap_v1_3.h (1.3, fine placements) on
 the golden mesh and checks the FNV-1a hash of the decoded
 UVs, which shows that the spec is complete enough for a second implementation
 to reproduce the UVs bit for bit.
@@ -145,11 +146,12 @@ def decode(stream, positions, indices):
     if r.take(4) != b"GWUV":
         raise Invalid("bad_magic")
     major, minor = r.take(1)[0], r.take(1)[0]
-    if major != 1 or minor > 2:
+    if major != 1 or minor > 3:
         raise Invalid("unsupported_version")
     flags = r.take(1)[0]
-    ROTATIONS, SCALES, SEEDS, METHODS = 0x01, 0x02, 0x04, 0x08
-    if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0) | (METHODS if minor >= 2 else 0)):
+    ROTATIONS, SCALES, SEEDS, METHODS, FINE = 0x01, 0x02, 0x04, 0x08, 0x10
+    if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0) | (METHODS if minor >= 2 else 0)
+                 | (FINE if minor >= 3 else 0)):
         raise Invalid("reserved_bits")
     face_count = r.varint()
     tau = struct.unpack("<f", r.take(4))[0]
@@ -262,7 +264,7 @@ def decode(stream, positions, indices):
     for f in range(F):
         faces_of[patch[f]].append(f)
     d = RangeDecoder(place)
-    NZ, NEG, MAG, METHOD = Ctx(), Ctx(), [Ctx() for _ in range(16)], Ctx()
+    NZ, NEG, MAG, METHOD, FINE_CTX = Ctx(), Ctx(), [Ctx() for _ in range(16)], Ctx(), Ctx()
     placements, seeds, methods = [], [], []
     for i in range(P):
         rot = d.uniform(256) if flags & ROTATIONS else 0
@@ -277,7 +279,16 @@ def decode(stream, positions, indices):
             step = -(mag + 1) if neg else mag + 1
         rank = d.uniform32(len(faces_of[i])) if flags & SEEDS else 0
         methods.append(d.bit(METHOD) if flags & METHODS else 0)
-        placements.append((rot, x, y, page, step))
+        # 1.3 fine placement: (mirror, cos_q, sin_q, x_frac, y_frac), or None.
+        fine = None
+        if flags & FINE and d.bit(FINE_CTX):
+            mirror = d.equiprobable()
+            cos_q, sin_q = d.uniform32(4 * 32768 + 1) - 65536, d.uniform32(4 * 32768 + 1) - 65536
+            x_frac, y_frac = d.uniform(256), d.uniform(256)
+            if (cos_q == 0 and sin_q == 0) or (x_frac and x == W) or (y_frac and y == H):
+                raise Invalid("bad_value")
+            fine = (mirror, cos_q, sin_q, x_frac, y_frac)
+        placements.append((rot, x, y, page, step, fine))
         seeds.append(faces_of[i][rank])
     d.finish()
 
@@ -598,18 +609,27 @@ def apply(xy, patch, placements, texel_scale, W, H):
     S, T = tables()
     uv = []
     for f, p in enumerate(patch):
-        rot, x, y, _page, step = placements[p]
-        r = rot % 256
-        q, i = r // 64, r % 64
-        c0, s0 = S[64 - i], S[i]
-        c, s = [(c0, s0), (-s0, c0), (-c0, -s0), (s0, -c0)][q]
+        rot, x, y, _page, step, fine = placements[p]
+        mirror = False
+        if fine:
+            mirror, cos_q, sin_q, x_frac, y_frac = fine
+            c, s = float(cos_q) * 2.0 ** -15, float(sin_q) * 2.0 ** -15
+            X, Y = float(x) + float(x_frac) * 2.0 ** -8, float(y) + float(y_frac) * 2.0 ** -8
+        else:
+            r = rot % 256
+            q, i = r // 64, r % 64
+            c0, s0 = S[64 - i], S[i]
+            c, s = [(c0, s0), (-s0, c0), (-c0, -s0), (s0, -c0)][q]
+            X, Y = float(x), float(y)
         e, k = step // 4, step % 4
         scale = texel_scale * math.ldexp(T[k], e)
         sc, ss = scale * c, scale * s
         for k3 in range(3):
             px, py = xy[6 * f + 2 * k3], xy[6 * f + 2 * k3 + 1]
-            tx = (sc * px - ss * py) + float(x)
-            ty = (ss * px + sc * py) + float(y)
+            if mirror:
+                py = -py
+            tx = (sc * px - ss * py) + X
+            ty = (ss * px + sc * py) + Y
             uv += [f32(tx / W), f32(ty / H)]
     return uv
 
@@ -669,11 +689,12 @@ def check_vector(name, pos, idx, median_seeds):
 
     def edit(i, v):
         return stream[:i] + bytes([v]) + stream[i + 1:]
-    # Section 4.1 / 6.1: a byte appended, minor 3, flag bit 4, a flag under a
-    # minor older than it (SEEDS under 0, METHODS under 0 or 1) are rejected;
-    # a stream without a newer flag decodes the same under a newer minor.
-    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 3), "unsupported_version"),
-           (edit(6, stream[6] | 0x10), "reserved_bits")]
+    # Section 4.1 / 6.1: a byte appended, minor 4, flag bit 5, a flag under a
+    # minor older than it (SEEDS under 0, METHODS under 0 or 1, FINE under 0,
+    # 1 or 2) are rejected; a stream without a newer flag decodes the same
+    # under a newer minor.
+    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 4), "unsupported_version"),
+           (edit(6, stream[6] | 0x20), "reserved_bits")]
     if stream[6] & 0x04:
         bad.append((edit(5, 0), "reserved_bits"))
     elif stream[5] == 0:
@@ -688,6 +709,13 @@ def check_vector(name, pos, idx, median_seeds):
             print(f"{name}: as version 1.2 decodes differently")
             ok = False
         bad.append((edit(6, stream[6] | 0x08), "reserved_bits"))
+    if stream[6] & 0x10:
+        bad.append((edit(5, 2), "reserved_bits"))
+    else:
+        if decode(edit(5, 3), pos, idx)[3] != uv:
+            print(f"{name}: as version 1.3 decodes differently")
+            ok = False
+        bad.append((edit(6, stream[6] | 0x10), "reserved_bits"))
     for bad_stream, want_err in bad:
         try:
             decode(bad_stream, pos, idx)
@@ -705,6 +733,7 @@ def main():
     ok = check_vector("1_0", pos, idx, median_seeds=False)
     ok = check_vector("1_1", pos, idx, median_seeds=True) and ok
     ok = check_vector("1_2", pos, idx, median_seeds=True) and ok
+    ok = check_vector("1_3", pos, idx, median_seeds=True) and ok
     return 0 if ok else 1
 
 
