@@ -33,16 +33,29 @@ export function decodeUvs(mesh, bytes) {
   const placements = decodePlacements(header, byPatch);
   const t2 = performance.now();
 
-  // Section 6.6: per patch (c, s) scaled, then per corner the texel position
-  // divided by the atlas size, rounded once to float.
+  // Section 6.6: per patch (c, s) scaled and the origin (X, Y), then per
+  // corner the texel position divided by the atlas size, rounded once to
+  // float. A fine patch (1.3) takes (c, s) = (cos_q, sin_q) / 2^15 and the
+  // fractions into (X, Y) (all exact), and a mirrored one negates py.
   const P = header.patchCount;
-  const sc = new Float64Array(P), ss = new Float64Array(P);
+  const sc = new Float64Array(P), ss = new Float64Array(P), X = new Float64Array(P), Y = new Float64Array(P);
   for (let p = 0; p < P; ++p) {
-    const [c, s] = rotationCosSin(placements.rotation[p]);
+    let c, s;
+    X[p] = placements.x[p];
+    Y[p] = placements.y[p];
+    if (placements.fine[p]) {
+      c = placements.cosQ[p] * 2 ** -15;
+      s = placements.sinQ[p] * 2 ** -15;
+      X[p] += placements.xFrac[p] * 2 ** -8;
+      Y[p] += placements.yFrac[p] * 2 ** -8;
+    } else {
+      [c, s] = rotationCosSin(placements.rotation[p]);
+    }
     const scale = header.texelScale * patchScale(placements.scaleStep[p]);
     sc[p] = scale * c;
     ss[p] = scale * s;
   }
+  const mirror = placements.mirror;
   const W = header.atlasWidth, H = header.atlasHeight;
   const uv = new Float32Array(2 * indices.length);
   // Every corner of vertex v in patch p gets the same pair, so it is computed
@@ -54,9 +67,9 @@ export function decodeUvs(mesh, bytes) {
       const v = indices[3 * f + k], o = 6 * f + 2 * k;
       if (doneIn[v] !== p + 1) {
         doneIn[v] = p + 1;
-        const a = sc[p], b = ss[p], px = xy[2 * k], py = xy[2 * k + 1];
-        const tx = (a * px - b * py) + placements.x[p];
-        const ty = (b * px + a * py) + placements.y[p];
+        const a = sc[p], b = ss[p], px = xy[2 * k], py = mirror[p] ? -xy[2 * k + 1] : xy[2 * k + 1];
+        const tx = (a * px - b * py) + X[p];
+        const ty = (b * px + a * py) + Y[p];
         uvOf[2 * v] = tx / W; // Float32Array store: round to nearest even
         uvOf[2 * v + 1] = ty / H;
       }

@@ -4,7 +4,7 @@
 import { GltfWarpError } from './errors.js';
 
 const MAGIC = [0x47, 0x57, 0x55, 0x56]; // "GWUV"
-export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04, FLAG_METHODS = 0x08;
+export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04, FLAG_METHODS = 0x08, FLAG_FINE = 0x10;
 const MAX_ATLAS = 65536, MAX_PAGES = 65536;
 
 class ByteReader {
@@ -57,9 +57,10 @@ export function readHeader(bytes, meshFaceCount) {
   const r = new ByteReader(bytes);
   r.pos = 4;
   const major = r.u8('version_major'), minor = r.u8('version_minor');
-  if (major !== 1 || minor > 2) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
+  if (major !== 1 || minor > 3) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
   const flags = r.u8('flags');
-  const known = FLAG_ROTATIONS | FLAG_SCALES | (minor >= 1 ? FLAG_SEEDS : 0) | (minor >= 2 ? FLAG_METHODS : 0);
+  const known = FLAG_ROTATIONS | FLAG_SCALES | (minor >= 1 ? FLAG_SEEDS : 0) | (minor >= 2 ? FLAG_METHODS : 0) |
+    (minor >= 3 ? FLAG_FINE : 0);
   if (flags & ~known) throw new GltfWarpError('reserved_bits', `flags 0x${flags.toString(16)}`);
   const h = { major, minor, flags };
   h.faceCount = r.varint('face_count');

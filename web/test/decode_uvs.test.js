@@ -28,7 +28,7 @@ function edited(bytes, i, v) {
   return b;
 }
 
-for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true]]) {
+for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true], ['1_3', true]]) {
   const { bytes, hash } = goldenVector(name);
 
   test(`golden ${name}: UV hash`, () => {
@@ -54,9 +54,9 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true]]
     const longer = new Uint8Array(bytes.length + 1);
     longer.set(bytes);
     assert.equal(errorCode(longer), 'trailing_bytes');
-    assert.equal(errorCode(edited(bytes, 5, 3)), 'unsupported_version');
+    assert.equal(errorCode(edited(bytes, 5, 4)), 'unsupported_version');
     assert.equal(errorCode(edited(bytes, 0, 0x48)), 'bad_magic');
-    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x10)), 'reserved_bits');
+    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x20)), 'reserved_bits');
     if (bytes[6] & 0x04) {
       assert.equal(errorCode(edited(bytes, 5, 0)), 'reserved_bits');
     } else if (bytes[5] === 0) {
@@ -68,6 +68,12 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true]]
     } else {
       assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x08)), 'reserved_bits');
       assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 2)).uv), hash, 'minor 2 without METHODS');
+    }
+    if (bytes[6] & 0x10) {
+      assert.equal(errorCode(edited(bytes, 5, 2)), 'reserved_bits');
+    } else {
+      assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x10)), 'reserved_bits');
+      assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 3)).uv), hash, 'minor 3 without FINE');
     }
   });
 
@@ -90,6 +96,24 @@ test('golden 1_2: solve patches are laid out, unfold patches decode as in 1.1', 
   for (let f = 0; f < 192; ++f) {
     if (method[v12.patchOfFace[f]]) continue;
     for (let k = 0; k < 6; ++k) assert.equal(v12.uv[6 * f + k], v11.uv[6 * f + k], `face ${f}`);
+  }
+});
+
+test('golden 1_3: fine placements; coarse patches decode as in 1.2, mirrored ones reverse their winding', () => {
+  const v13 = decodeUvs(mesh, goldenVector('1_3').bytes), v12 = decodeUvs(mesh, goldenVector('1_2').bytes);
+  const pl = v13.placements;
+  assert.deepEqual(Array.from(pl.fine), [0, 0, 1, 0, 0, 1, 1, 0, 0, 1]);
+  assert.deepEqual(Array.from(pl.mirror), [0, 0, 0, 0, 0, 1, 1, 0, 0, 0]);
+  assert.deepEqual(Array.from(pl.cosQ), [0, 0, 28000, 0, 0, 32768, -20000, 0, 0, 0]);
+  assert.deepEqual(Array.from(pl.sinQ), [0, 0, -17000, 0, 0, 0, 30000, 0, 0, -65536]);
+  assert.deepEqual(Array.from(pl.xFrac), [0, 0, 77, 0, 0, 0, 255, 0, 0, 5]);
+  assert.deepEqual(Array.from(pl.yFrac), [0, 0, 200, 0, 0, 128, 1, 0, 0, 0]);
+  for (let f = 0; f < 192; ++f) {
+    const p = v13.patchOfFace[f], c = v13.uv.subarray(6 * f, 6 * f + 6);
+    const same = c.every((v, k) => Object.is(v, v12.uv[6 * f + k]));
+    assert.equal(same, !pl.fine[p], `face ${f}`);
+    const area = (c[2] - c[0]) * (c[5] - c[1]) - (c[3] - c[1]) * (c[4] - c[0]);
+    assert.ok(pl.mirror[p] ? area < 0 : area > 0, `face ${f}: area ${area}`);
   }
 });
 
