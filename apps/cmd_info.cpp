@@ -122,6 +122,12 @@ Runner add_info(CLI::App& app) {
           p["version"] = std::to_string(si.version_major) + "." + std::to_string(si.version_minor);
           p["solve_patches"] =
               std::count(map.methods.begin(), map.methods.end(), uint8_t(LayoutMethod::solve));
+          // 1.3: patches placed on another patch's texels (texel reuse), and how many of those mirror.
+          p["fine_patches"] = std::count_if(map.placements.begin(), map.placements.end(),
+                                            [](const PatchPlacement& pl) { return pl.fine; });
+          p["mirrored_patches"] =
+              std::count_if(map.placements.begin(), map.placements.end(),
+                            [](const PatchPlacement& pl) { return pl.fine && pl.mirror; });
         }
         out["primitives"].push_back(p);
       }

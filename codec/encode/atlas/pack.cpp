@@ -412,15 +412,9 @@ void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
   corner_texel.resize(nf * 6);
   for (size_t f = 0; f < nf; ++f) {
     const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
-    const double s = double(map.texel_scale) * pscale(pl.scale_step);
-    double c, sn;
-    rot_cs(pl.rotation, c, sn);
-    const double sc = s * c, ss = s * sn;
-    for (int v = 0; v < 3; ++v) {
-      const double x = corner_xy[6 * f + 2 * v], y = corner_xy[6 * f + 2 * v + 1];
-      corner_texel[6 * f + 2 * v] = (sc * x - ss * y) + double(pl.x);
-      corner_texel[6 * f + 2 * v + 1] = (ss * x + sc * y) + double(pl.y);
-    }
+    for (int v = 0; v < 3; ++v)  // the decoder's arithmetic, fine placements (1.3) included
+      placement_texel(map, pl, corner_xy[6 * f + 2 * v], corner_xy[6 * f + 2 * v + 1],
+                      corner_texel[6 * f + 2 * v], corner_texel[6 * f + 2 * v + 1]);
   }
 }
 

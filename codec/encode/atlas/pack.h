@@ -113,7 +113,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
 
 // texel = s * R(rotation) * p + (x, y) with s = texel_scale * patch_scale(step):
 // per-corner texel-space positions (not divided by the page size) for one
-// primitive, using the format's exact rotation table.
+// primitive, with the decoder's arithmetic (placement_texel, decode_uvs.h),
+// so fine placements (format 1.3) too.
 void placed_corner_texels(std::span<const double> corner_xy, const UvMap& map,
                           std::vector<double>& corner_texel);
 
