@@ -158,6 +158,10 @@ Runner add_encode(CLI::App& app) {
   app.add_flag("!--always-implicit", a->opt.quality_fallback,
                "Never fall back to explicit UVs, for quality or for size (still raise the density to meet "
                "--min-psnr)");
+  app.add_flag(
+      "!--no-texel-reuse", a->opt.texel_reuse,
+      "Warp every patch's own texels, even where the source shows the same texels on several "
+      "(mirrored or repeated) parts; by default those parts share one place in the atlas (format 1.3)");
   app.add_flag("!--explicit-uvs", a->opt.implicit_uvs,
                "Keep TEXCOORD_0 explicit (plain Draco for everything)");
   app.add_option("--position-bits", a->opt.draco.position_bits, "Draco position quantization")

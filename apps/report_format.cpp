@@ -152,6 +152,9 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
         "images %zu -> %zu bytes\n",
         i, a.width, a.height, pages.c_str(), 100.0 * a.fill, a.overlapping_texels, a.density_factor, a.psnr,
         a.source_image_bytes, a.atlas_image_bytes);
+    if (a.reused_patches > 0)
+      std::printf("  texel reuse: %u patches land on the texels of congruent ones (%.0f texels saved)\n",
+                  a.reused_patches, a.reused_texels);
     if (a.mip_psnr[0] > 0)
       std::printf(
           "  by MIP level 0/1/2/3: mean %.1f/%.1f/%.1f/%.1f dB, worst 1%% of the surface %.1f/%.1f/%.1f/%.1f "

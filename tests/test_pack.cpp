@@ -19,7 +19,7 @@ struct GenPrim {
   std::vector<double> corner_xy;
   uint32_t patch_count = 0;
   PackPrimitive view() const {
-    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy, {}, {}, {}, {}, {}};
+    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy, {}, {}, {}, {}, {}, {}, {}};
   }
 };
 

@@ -113,8 +113,17 @@ TEST(Pages, EstimatedTexelsMatchThePacker) {
     const auto patch =
         estimated_patch_texels(p.er.corner_xy, p.er.patch_of_face, p.er.patch_count, p.density, factor);
     const double estimate = std::accumulate(patch.begin(), patch.end(), 0.0);
-    PackPrimitive pp{&p.shape.mesh, p.er.patch_of_face, p.er.patch_count, p.er.corner_xy, p.density, {},
-                     p.er.seeds,    p.er.methods,       p.er.solve};
+    PackPrimitive pp{&p.shape.mesh,
+                     p.er.patch_of_face,
+                     p.er.patch_count,
+                     p.er.corner_xy,
+                     p.density,
+                     {},
+                     p.er.seeds,
+                     p.er.methods,
+                     p.er.solve,
+                     {},
+                     {}};
     // The reference as the encoder sets it, near the faces' own densities
     // (the packer clamps each patch's scale to 1/16..8 times it).
     double sum = 0;

@@ -93,6 +93,10 @@ struct AtlasReport {
   std::vector<std::array<uint32_t, 2>> page_sizes;  // every page's width and height (one image set each)
   double fill = 0;                                  // covered texels / atlas texels, over the pages
   size_t overlapping_texels = 0;
+  // Texel reuse (format 1.3): copy patches placed on their originals'
+  // texels, and the atlas texels they would have taken of their own.
+  uint32_t reused_patches = 0;
+  double reused_texels = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;  // times the measured texel density
   double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)

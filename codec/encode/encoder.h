@@ -17,13 +17,17 @@
 namespace gltfwarp {
 
 struct EncodeOptions {
-  DracoOptions draco;              // quantization bits (defaults of common tools)
-  bool raw_geometry = false;       // --geometry raw: float accessors, no Draco
-  bool implicit_uvs = true;        // replace TEXCOORD_0 (off: plain Draco for everything)
-  double tau = 1.3;                // distortion bound of every triangle
-  bool greedy_partition = false;   // the paper's plain greedy growth (baseline)
-  bool mixed_layout = false;       // --layout mixed: also merge patches laid out by solve (format 1.2)
-  bool report_greedy = false;      // also run greedy on each primitive and report its figures
+  DracoOptions draco;             // quantization bits (defaults of common tools)
+  bool raw_geometry = false;      // --geometry raw: float accessors, no Draco
+  bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
+  double tau = 1.3;               // distortion bound of every triangle
+  bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
+  bool mixed_layout = false;      // --layout mixed: also merge patches laid out by solve (format 1.2)
+  bool report_greedy = false;     // also run greedy on each primitive and report its figures
+  // Texel reuse (format 1.3): faces that show the same source texels through
+  // congruent triangles (mirrored halves, repeats) get copy patches that land
+  // on their originals' texels, so the atlas holds them once (twin_partition.h).
+  bool texel_reuse = true;
   bool keep_source_charts = true;  // compact: no patch crosses a source UV seam (source_charts.h) ...
   bool cross_hidden_seams = true;  // ... unless the textures agree across it (seam_continuity.h)
   double texel_density = 0;        // texels per model unit; 0 = measured from the source (below)

@@ -155,6 +155,8 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   frames.reserve(group.members.size());
   std::vector<std::vector<float>> areas;
   areas.reserve(group.members.size());
+  std::vector<std::vector<uint32_t>> face_pages;  // per member with copies: its faces the warp paints
+  face_pages.reserve(group.members.size());
   for (size_t k : built.pages[page]) {
     const auto& ip = plan.prims[group.members[k]];
     // Only the members that sample the image (through any material they can show) paint it.
@@ -164,6 +166,17 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
     w.atlas_uv = ip.corner_uv;
     areas.push_back(face_areas(ip.tri));
     w.face_area = areas.back();
+    // Texel reuse: a copy's faces land on texels its original paints; they
+    // paint none of their own (a page no warp produces).
+    const UvMap& map = built.maps[k];
+    if (std::any_of(map.placements.begin(), map.placements.end(),
+                    [](const PatchPlacement& pl) { return pl.fine; })) {
+      std::vector<uint32_t> pages(ip.patch_of_face.size(), coding.warp.page);
+      for (size_t f = 0; f < pages.size(); ++f)
+        if (map.placements[ip.patch_of_face[f]].fine) pages[f] = UINT32_MAX;
+      face_pages.push_back(std::move(pages));
+      w.page_of_face = face_pages.back();
+    }
     if (normal_map) {
       frames.push_back(corner_frames(ip));
       w.normals = frames.back().normals;

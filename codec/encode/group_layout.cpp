@@ -26,6 +26,7 @@ std::vector<double> member_texels(const AtlasGroup& group, const ImplicitPlan& p
         reference > 0 ? std::span<const double>(density[k]) : std::span<const double>(),
         reference > 0 ? scale / reference : scale);
     for (uint32_t p = 0; p < ip.patch_count; ++p) {
+      if (!ip.reuse_of.empty() && ip.reuse_of[p] >= 0) continue;  // a copy: on its original's texels
       const double s = k < step_bias.size() && p < step_bias[k].size() ? patch_scale(step_bias[k][p]) : 1.0;
       texels[k] += patch[p] * s * s;
     }
@@ -69,6 +70,8 @@ Error pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, do
   scale_kept = 1;
   ar.page_sizes.clear();
   ar.overlapping_texels = 0;
+  ar.reused_patches = 0;
+  ar.reused_texels = 0;
   double covered = 0, page_texels = 0;
   for (size_t page = 0; page < out.pages.size(); ++page) {
     std::vector<PackPrimitive> on_page;
@@ -85,6 +88,8 @@ Error pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, do
     covered += packed.report.fill * double(packed.report.atlas_texels);
     page_texels += double(packed.report.atlas_texels);
     ar.overlapping_texels += packed.report.overlap_texels;
+    ar.reused_patches += packed.report.reused_patches;
+    ar.reused_texels += packed.report.reused_texels;
     // The page hit --max-atlas-size and the scale shrank: more density cannot help.
     if (packed.report.shrink_retries > 0) {
       out.capped = true;
@@ -154,6 +159,8 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
     p.methods = ip.methods;
     p.solve = ip.solve;
     p.corner_xy = ip.corner_xy;
+    p.reuse_of = ip.reuse_of;
+    p.twin_corner = ip.twin_corner;
     p.face_density = density.face_density[k];
     if (k < step_bias.size()) p.scale_step_bias = step_bias[k];
     pp.push_back(p);
@@ -205,6 +212,8 @@ Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOpt
     const auto& ip = plan.prims[group.members[k]];
     const UvMap& map = out.maps[k];
     for (size_t f = 0; f < ip.patch_of_face.size(); ++f) {
+      // A copy on its original's texels adds none (texel reuse).
+      if (map.placements[ip.patch_of_face[f]].fine) continue;
       const double s = double(map.texel_scale) * patch_scale(map.placements[ip.patch_of_face[f]].scale_step);
       out.patch_texels[out.group_patch[k][f]] += layout_face_area(ip.corner_xy, f) * s * s;
     }

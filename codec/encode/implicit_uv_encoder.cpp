@@ -13,6 +13,7 @@
 #include "codec/encode/cut_primitive.h"
 #include "codec/encode/partition/embed.h"
 #include "codec/encode/partition/source_charts.h"
+#include "codec/encode/partition/twin_partition.h"
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/seam_continuity.h"
 #include "codec/encode/texture/texture_sampler.h"
@@ -507,7 +508,19 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   // 532 off, at the same 42.6 dB and bytes; CesiumMilkTruck is 284 KB at 8
   // and 32 and 297 KB with the rule off.
   if (!face_chart.empty()) eo.max_density_ratio = 32.0;
-  Embedding er = embed(ip.tri, eo);
+  // With texel reuse, faces that repeat source texels get copy patches the
+  // packer can land on their originals (twin_partition.h).
+  TwinEmbedding te;
+  auto run_embed = [&] {
+    if (options.texel_reuse) {
+      te = embed_with_twins(ip.tri, ip.source_uv, eo);
+    } else {
+      te = TwinEmbedding{};
+      te.embedding = embed(ip.tri, eo);
+    }
+  };
+  run_embed();
+  Embedding& er = te.embedding;
   if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
   // A patch larger than a page could not go to pages (a flat ground plane
   // under a big texture is one patch): its faces are split into regions of
@@ -520,7 +533,7 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
     if (regions.empty()) break;
     face_chart = std::move(regions);
     eo.face_chart = face_chart;
-    er = embed(ip.tri, eo);
+    run_embed();
     if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
   }
 
@@ -556,6 +569,8 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   ip.methods = std::move(er.methods);
   ip.solve = er.solve;
   ip.corner_xy = std::move(er.corner_xy);
+  ip.reuse_of = std::move(te.reuse_of);
+  ip.twin_corner = std::move(te.twin_corner);
 
   pr.handling = Handling::implicit_uv;
   pr.raw_geometry = options.raw_geometry;

@@ -32,7 +32,12 @@ struct ImplicitPrimitive {
   std::vector<uint8_t> methods;   // empty, or each patch's LayoutMethod (format 1.2)
   SolveParams solve;              // the solve's iteration counts when a patch solves
   std::vector<double> corner_xy;  // layout_patches output
-  std::vector<float> corner_uv;   // final UVs (decode_uvs output)
+  // Texel reuse (twin_partition.h): per patch, the patch it is a congruent
+  // copy of (or -1); per corner of a copy's face, the original's corner.
+  // Empty: no copy patch.
+  std::vector<int32_t> reuse_of;
+  std::vector<uint32_t> twin_corner;
+  std::vector<float> corner_uv;  // final UVs (decode_uvs output)
   bool had_tangents = false;
   // The primitive as the source had it, accessors included (they stay in the
   // model until compact_buffers), for a fall back to explicit UVs.

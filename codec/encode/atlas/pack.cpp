@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "codec/core/geometry2d.h"
+#include "codec/encode/atlas/congruent_fit.h"
 #include "codec/encode/atlas/texel_density.h"
 #include "format/bitstream/decode_uvs.h"
 
@@ -47,6 +48,8 @@ struct PatchInfo {
   Mask masks[4];
   int mask_count = 0;
   uint64_t order_key = 0;
+  int32_t copy_of = -1;  // texel reuse: index of the original's PatchInfo (this one is not packed)
+  SimilarityFit fit;     // copy's patch-local frame -> original's
 };
 
 struct TriRaster {
@@ -449,7 +452,10 @@ void measure_atlas(std::span<const PackPrimitive> prims, std::span<const UvMap> 
       for (size_t f = 0; f < m.patch_of_face.size(); ++f) {
         const uint32_t patch = m.patch_of_face[f];
         if (m.placements[patch].page != page) continue;
-        const uint32_t id = base + patch + 1;
+        // A copy on its original's texels is that patch, as far as overlap goes.
+        const auto& reuse = prims[i].reuse_of;
+        const bool copy = m.placements[patch].fine && patch < reuse.size() && reuse[patch] >= 0;
+        const uint32_t id = base + (copy ? uint32_t(reuse[patch]) : patch) + 1;
         double ax = t[6 * f], ay = t[6 * f + 1], bx = t[6 * f + 2], by = t[6 * f + 3];
         double cx = t[6 * f + 4], cy = t[6 * f + 5];
         double area = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax);
@@ -566,6 +572,41 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     if (p.patch < bias.size())
       p.scale_step = std::clamp(p.scale_step + bias[p.patch], options.min_scale_step, options.max_scale_step);
   }
+  // Texel reuse: a copy whose replay matches its original's (to
+  // max_reuse_residual texels) follows it instead of being packed.
+  for (size_t i = 0; i < prims.size(); ++i) {
+    const PackPrimitive& pr = prims[i];
+    if (pr.reuse_of.size() != pr.patch_count || pr.twin_corner.size() != pr.corner_xy.size() / 2) continue;
+    std::vector<double> from, to;
+    for (uint32_t p = 0; p < pr.patch_count; ++p) {
+      const int32_t o = pr.reuse_of[p];
+      if (o < 0 || uint32_t(o) >= pr.patch_count || pr.reuse_of[size_t(o)] >= 0) continue;
+      PatchInfo& copy = patches[base[i] + p];
+      const PatchInfo& original = patches[base[i] + uint32_t(o)];
+      from.clear(), to.clear();
+      bool whole = true;
+      for (uint32_t f : copy.faces)
+        for (int v = 0; v < 3; ++v) {
+          const uint32_t twin = pr.twin_corner[3 * size_t(f) + v];
+          if (twin >= pr.twin_corner.size()) {
+            whole = false;
+            continue;
+          }
+          from.push_back(pr.corner_xy[6 * size_t(f) + 2 * v]),
+              from.push_back(pr.corner_xy[6 * size_t(f) + 2 * v + 1]);
+          to.push_back(pr.corner_xy[2 * size_t(twin)]), to.push_back(pr.corner_xy[2 * size_t(twin) + 1]);
+        }
+      if (!whole) continue;
+      const SimilarityFit fit = fit_similarity(from, to);
+      const double texels = options.texel_scale * pscale(original.scale_step);
+      if (!fit.ok || !(fit.max_residual * texels <= options.max_reuse_residual) ||
+          std::abs(std::hypot(fit.a, fit.b) - 1) > 0.05)
+        continue;
+      copy.copy_of = int32_t(base[i] + uint32_t(o));
+      copy.fit = fit;
+      copy.scale_step = original.scale_step;
+    }
+  }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));
   std::vector<double> q;
@@ -577,6 +618,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     int cell = int(options.cell);
     double texel_area = 0;
     for (const PatchInfo& p : patches) {
+      if (p.copy_of >= 0) continue;
       const PackPrimitive& pr = prims[p.prim];
       double area = 0, x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
       for (uint32_t f : p.faces) {
@@ -606,6 +648,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     uint64_t cell_area = 0;
     for (PatchInfo& p : patches) {
+      if (p.copy_of >= 0) continue;
       p.mask_count = options.rotate_90 ? 4 : 1;
       for (int k = 0; k < p.mask_count; ++k)
         build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
@@ -613,8 +656,9 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       cell_area += p.masks[0].cells;
       p.order_key = uint64_t(std::max(p.masks[0].ch, p.masks[0].cw)) << 32 | p.masks[0].cells;
     }
-    std::vector<uint32_t> order(patches.size());
-    std::iota(order.begin(), order.end(), 0u);
+    std::vector<uint32_t> order;  // the patches packed: every one but the copies
+    for (uint32_t pi = 0; pi < patches.size(); ++pi)
+      if (patches[pi].copy_of < 0) order.push_back(pi);
     std::stable_sort(order.begin(), order.end(),
                      [&](uint32_t a, uint32_t b) { return patches[a].order_key > patches[b].order_key; });
     const int hc_max = int(max_size) / cell;
@@ -623,6 +667,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     const double side = std::sqrt(double(cell_area) / 0.8) * cell;
     int min_w = 0;  // narrowest page every patch fits in some turn of
     for (PatchInfo& p : patches) {
+      if (p.copy_of >= 0) continue;
       int m = INT_MAX;
       for (int k = 0; k < p.mask_count; ++k) m = std::min(m, p.masks[k].cw);
       min_w = std::max(min_w, m * cell);
@@ -723,6 +768,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     for (size_t pi = 0; pi < patches.size(); ++pi) {
       const PatchInfo& p = patches[pi];
+      if (p.copy_of >= 0) continue;
       const Placed& pl = best_placed[pi];
       const Mask& mk = p.masks[pl.mask];
       PatchPlacement& out = result.maps[p.prim].placements[p.patch];
@@ -733,6 +779,16 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       out.scale_step = p.scale_step;
     }
     PackReport& rep = result.report;
+    for (const PatchInfo& p : patches) {
+      if (p.copy_of < 0) continue;
+      const PatchInfo& o = patches[size_t(p.copy_of)];
+      const PatchPlacement& original = result.maps[o.prim].placements[o.patch];
+      result.maps[p.prim].placements[p.patch] =
+          copy_placement(original, p.fit, double(float(scale)), best_w, best_h);
+      ++rep.reused_patches;
+      const double ps = scale * pscale(p.scale_step);
+      for (uint32_t f : p.faces) rep.reused_texels += layout_face_area(prims[p.prim].corner_xy, f) * ps * ps;
+    }
     rep.atlas_width = best_w;
     rep.atlas_height = best_h;
     rep.page_count = best_pages;

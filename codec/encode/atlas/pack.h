@@ -42,6 +42,13 @@ struct PackPrimitive {
   std::span<const uint32_t> seeds;   // empty (lowest faces) or one per patch: copied to UvMap::seeds
   std::span<const uint8_t> methods;  // empty (all unfold) or one per patch: copied to UvMap::methods
   SolveParams solve;                 // copied to UvMap::solve
+  // Texel reuse (codec/encode/partition/twin_partition.h): empty, or per
+  // patch the patch (of this primitive) it is a congruent copy of, or -1;
+  // and per corner of a copy's face the original's corner. A copy whose
+  // layout matches its original's within PackOptions::max_reuse_residual is
+  // not packed: its fine placement (format 1.3) lands it on the original's texels.
+  std::span<const int32_t> reuse_of;
+  std::span<const uint32_t> twin_corner;
 };
 
 enum class SizeRounding : uint8_t {
@@ -80,8 +87,12 @@ struct PackOptions {
   uint32_t search_depth = 3;               // bitmap: search holes down to this many patch heights
                                            // above the lowest skyline point (bounds the work)
   uint32_t cell = 0;                       // packing raster cell in texels; 0 = auto (1..4 by atlas size)
-  double shrink_factor = 0.92;             // texel scale factor per retry when a page would be too large
-  uint32_t max_retries = 60;               // give up (status too_large) after this many shrinks
+  // Texel reuse: the largest distance, in texels at the asked texel_scale,
+  // between a copy's corner and its original's corner once fitted. Beyond
+  // it the copy is packed as a patch of its own.
+  double max_reuse_residual = 0.25;
+  double shrink_factor = 0.92;  // texel scale factor per retry when a page would be too large
+  uint32_t max_retries = 60;    // give up (status too_large) after this many shrinks
 };
 
 enum class PackStatus : uint8_t {
@@ -101,6 +112,8 @@ struct PackReport {
   double fill = 0;              // covered_texels / atlas_texels
   uint64_t overlap_texels = 0;  // texel centres covered by two different patches (must be 0)
   uint64_t outside_texels = 0;  // texel centres of placed triangles outside their page (must be 0)
+  uint32_t reused_patches = 0;  // copies placed on their originals' texels (not packed)
+  double reused_texels = 0;     // their area in atlas texels: what reuse saved
   double seconds = 0;           // wall time of pack_atlas
 };
 
