@@ -9,10 +9,10 @@ namespace {
 
 double round2(double v) { return std::round(v * 100) / 100; }
 
-// How the explicit-UV alternative's images were priced: "as they are"
-// (lossless coder) or the coder and the quality searched ("webp q21").
+// How the explicit-UV alternative's images were priced: "lossless"
+// (as they are, or smaller PNGs of the same pixels) or the coder and the quality searched ("webp q21").
 std::string explicit_images(int quality, const std::string& mime) {
-  if (quality <= 0) return "as they are";
+  if (quality <= 0) return "lossless";
   return std::string(mime == "image/webp" ? "webp" : "jpeg") + " q" + std::to_string(quality);
 }
 

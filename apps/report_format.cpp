@@ -18,10 +18,17 @@ const char* coder_name(const std::string& mime) { return mime == "image/webp" ? 
 // Appends, when a fallback recoded the source images (--image-format
 // jpeg|webp), which coder and quality they were written with.
 void append_recoded(char* line, size_t size, const Fallback& f) {
-  if (f.images_recoded_quality <= 0) return;
-  const size_t used = std::strlen(line);
-  std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
-                coder_name(f.explicit_image_mime), f.images_recoded_quality);
+  if (f.images_recoded_quality > 0) {
+    const size_t used = std::strlen(line);
+    std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
+                  coder_name(f.explicit_image_mime), f.images_recoded_quality);
+  }
+  if (f.images_repacked > 0) {
+    const size_t used = std::strlen(line);
+    std::snprintf(line + used, size - used, "; %u source PNG%s written again losslessly, %zu -> %zu bytes",
+                  f.images_repacked, f.images_repacked == 1 ? "" : "s", f.repacked_bytes_before,
+                  f.repacked_bytes_after);
+  }
 }
 
 }  // namespace
@@ -55,9 +62,10 @@ std::string fallback_text(const Fallback& f) {
         append_recoded(line, sizeof line, f);
       } else {
         std::snprintf(line, sizeof line,
-                      "smaller: %zu bytes of geometry and the source images as they are, against %zu with "
+                      "smaller: %zu bytes of geometry and the source images, lossless, against %zu with "
                       "the implicit map and a %.1f dB atlas",
                       f.explicit_bytes, f.implicit_bytes, f.psnr);
+        append_recoded(line, sizeof line, f);
       }
       return line;
     case FallbackReason::texture_repeats:
@@ -171,7 +179,7 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
             a.file_bytes, a.psnr, 100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
       else
         std::printf(
-            "  with explicit UVs: %zu bytes (source images as they are, lossless); implicit: %zu bytes "
+            "  with explicit UVs: %zu bytes (source images lossless); implicit: %zu bytes "
             "(%.1f dB), %+.1f%%\n",
             a.explicit_bytes, a.file_bytes, a.psnr,
             100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));

@@ -392,10 +392,11 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       // Asked for JPEG q10, the user gets JPEG q10 sources, not the PNG
       // they gave (TwoSidedPlane: 157,852 B at 99 dB kept for a q10 encode).
       const std::set<int> replaceable = replaceable_images(model, group, built);
-      if (Error e = recode_sources_as_asked(model, options, lossy_sources(model, group, options, replaceable),
-                                            sources, why);
-          e.failed())
-        return e;
+      const LossySources lossy = lossy_sources(model, group, options, replaceable);
+      LosslessRepacks repacks;
+      if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
+      if (Error e = recode_sources_as_asked(model, options, lossy, sources, why); e.failed()) return e;
+      write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
@@ -412,7 +413,9 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     EqualQualityImages alternative;
     const std::set<int> replaceable = replaceable_images(model, group, built);
     const LossySources lossy = lossy_sources(model, group, options, replaceable);
-    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy,
+    LosslessRepacks repacks;
+    if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
+    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
                                        built.floor_psnr(), alternative);
         e.failed())
       return e;
@@ -432,6 +435,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_image_quality = alternative.quality;
       why.explicit_image_mime = alternative.mime;
       if (Error e = recode_sources_as_asked(model, options, lossy, sources, why); e.failed()) return e;
+      write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }

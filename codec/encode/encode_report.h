@@ -58,6 +58,10 @@ struct Fallback {
   // the source images were written with that coder at this quality (0: left
   // as they were).
   int images_recoded_quality = 0;
+  // Source PNGs written again by our PNG writer, smaller and to the same
+  // pixels (lossless_repacks), with their bytes before and after.
+  uint32_t images_repacked = 0;
+  size_t repacked_bytes_before = 0, repacked_bytes_after = 0;
   // texture_repeats: the source texels the faces cover, each use counted
   // (what the atlas would hold), and the texels of the images they sample.
   double texel_uses = 0, image_texels = 0;

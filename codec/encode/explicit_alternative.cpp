@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <map>
 
+#include <OpenImageIO/imagebufalgo.h>
+
 #include "codec/encode/implicit_uv_encoder.h"
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/warp_quality.h"
@@ -63,12 +65,52 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
   return {};
 }
 
+Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images, const LossySources& lossy,
+                       SourceImages& sources, LosslessRepacks& out) {
+  out.clear();
+  for (int image : images) {
+    const std::vector<uint8_t>& bytes = model.images[size_t(image)].image;
+    if (lossy.count(image) || sniff_image_codec(bytes) != ImageCodec::png || !png_holds_only_pixels(bytes))
+      continue;
+    SourceImage* decoded = nullptr;
+    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+    std::vector<uint8_t> ours;
+    std::string why;
+    if (!encode_image(decoded->pixels, "image/png", 0, ours, why))
+      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + why};
+    if (ours.size() >= bytes.size()) continue;
+    // Lossless by construction; checked, since a file's pixels are at stake.
+    OIIO::ImageBuf back;
+    if (!decode_image(ours, back, why)) continue;
+    const OIIO::ImageSpec &a = back.spec(), &b = decoded->pixels.spec();
+    if (a.width != b.width || a.height != b.height || a.nchannels != b.nchannels || a.format != b.format)
+      continue;
+    if (OIIO::ImageBufAlgo::compare(back, decoded->pixels, 0.0f, 0.0f).maxerror != 0) continue;
+    out.emplace(image, std::move(ours));
+  }
+  return {};
+}
+
+void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repacks, Fallback& why) {
+  for (const auto& [image, bytes] : repacks) {
+    auto& im = model.images[size_t(image)];
+    why.repacked_bytes_before += im.image.size();
+    why.repacked_bytes_after += bytes.size();
+    ++why.images_repacked;
+    im.image = bytes;
+    im.mimeType = "image/png";
+  }
+}
+
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
-                           const LossySources& lossy, double target_psnr, EqualQualityImages& out) {
+                           const LossySources& lossy, const LosslessRepacks& repacks, double target_psnr,
+                           EqualQualityImages& out) {
   out = {};
   for (int image : images) {
-    const size_t as_is = model.images[size_t(image)].image.size();
+    const auto repacked = repacks.find(image);
+    const size_t as_is =
+        repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
     auto it = lossy.find(image);
     if (it == lossy.end() || !(target_psnr > 0)) {
       out.bytes += as_is;

@@ -7,13 +7,15 @@
 // is searched for the smallest file whose surface PSNR (the source's UVs,
 // the same points and filter as the atlas's check) reaches the atlas's; the
 // source's own bytes cap it. Where it is lossless (PNG, normal maps), the
-// source images count as they are: nothing smaller is as good.
+// source images count as they are, or as our PNG writer codes them where
+// that is smaller (lossless_repacks).
 #pragma once
 
 #include <cstddef>
 #include <map>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "codec/core/error.h"
 #include "codec/encode/group_atlas.h"
@@ -42,11 +44,23 @@ LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group
 Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
                               SourceImages& sources, Fallback& why);
 
+// The PNG sources among `images` (none that `lossy` codes lossily) that our
+// PNG writer codes smaller, to the same pixels (png_holds_only_pixels: no
+// colour profile or text to lose): image -> its new bytes. A group that keeps
+// explicit UVs writes them (write_lossless_repacks), and the equal-quality
+// alternative counts them: a user keeping explicit UVs can have them too.
+using LosslessRepacks = std::map<int, std::vector<uint8_t>>;
+Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images, const LossySources& lossy,
+                       SourceImages& sources, LosslessRepacks& out);
+// Puts them in the model; why.images_repacked and the bytes before and after.
+void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repacks, Fallback& why);
+
 // target_psnr: the atlas's floor_psnr(). `images`: the source images the
 // atlas would replace (replaceable_images' set); `lossy`: lossy_sources of
 // them (the caller keeps it for recode_sources_as_asked).
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
-                           const LossySources& lossy, double target_psnr, EqualQualityImages& out);
+                           const LossySources& lossy, const LosslessRepacks& repacks, double target_psnr,
+                           EqualQualityImages& out);
 
 }  // namespace gltfwarp

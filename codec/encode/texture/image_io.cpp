@@ -68,6 +68,27 @@ ImageCodec sniff_image_codec(std::span<const uint8_t> b) {
   return b.empty() ? ImageCodec::unknown : ImageCodec::other;
 }
 
+bool png_holds_only_pixels(std::span<const uint8_t> bytes) {
+  static constexpr uint8_t kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  if (bytes.size() < 8 || !std::equal(kSignature, kSignature + 8, bytes.begin())) return false;
+  // Pixels, and what no viewer shows (print size, image offset, time).
+  static constexpr const char* kPixelChunks[] = {"IHDR", "PLTE", "IDAT", "IEND", "tRNS",
+                                                 "sRGB", "pHYs", "oFFs", "tIME"};
+  size_t at = 8;
+  while (at + 12 <= bytes.size()) {
+    const uint32_t length = uint32_t(bytes[at]) << 24 | uint32_t(bytes[at + 1]) << 16 |
+                            uint32_t(bytes[at + 2]) << 8 | bytes[at + 3];
+    const std::string type(reinterpret_cast<const char*>(&bytes[at + 4]), 4);
+    if (std::none_of(std::begin(kPixelChunks), std::end(kPixelChunks),
+                     [&](const char* t) { return type == t; }))
+      return false;
+    if (length > bytes.size() - at - 12) return false;
+    at += 12 + size_t(length);
+    if (type == "IEND") return at == bytes.size();
+  }
+  return false;
+}
+
 int estimate_jpeg_quality(std::span<const uint8_t> b) {
   // DQT stores the table in zigzag order; this is the standard table in zigzag order.
   static const int std_lum[64] = {16, 11, 12,  14,  12,  10, 16, 14,  13,  14,  18,  17,  16, 19,  24,  40,

@@ -65,6 +65,13 @@ bool decode_image(std::span<const uint8_t> bytes, OIIO::ImageBuf& pixels, std::s
 bool encode_image(const OIIO::ImageBuf& image, const std::string& mime, int quality,
                   std::vector<uint8_t>& bytes, std::string& error);
 
+// True for a well-formed PNG whose chunks all describe pixels alone (IHDR,
+// PLTE, IDAT, IEND, tRNS, sRGB, and pHYs, oFFs, tIME, which no viewer
+// shows): re-encoding its decoded pixels then
+// loses nothing. A colour profile (iCCP, gAMA, cHRM, sBIT), text or any
+// other chunk would be lost, so such a PNG is not one.
+bool png_holds_only_pixels(std::span<const uint8_t> bytes);
+
 // Estimated IJG quality of JPEG bytes from their luminance quantization
 // table, or 0 when there is none.
 int estimate_jpeg_quality(std::span<const uint8_t> bytes);

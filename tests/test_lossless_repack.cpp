@@ -1,0 +1,103 @@
+// A group that keeps explicit UVs writes its source PNGs again where our PNG
+// writer codes the same pixels smaller (issue 16: the explicit-UV file a user
+// compares with can have them too, so the encoder's comparison counts them).
+#include <gtest/gtest.h>
+
+#include <OpenImageIO/imagebufalgo.h>
+
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "support/malformed.h"
+
+namespace gltfwarp {
+namespace {
+
+std::vector<uint8_t> our_png(int size) {
+  OIIO::ImageBuf img(OIIO::ImageSpec(size, size, 3, OIIO::TypeDesc::UINT8));
+  auto* p = static_cast<uint8_t*>(img.localpixels());
+  for (int i = 0; i < size * size * 3; ++i) p[i] = uint8_t((i * 7) & 255);
+  std::vector<uint8_t> bytes;
+  EXPECT_EQ(encode_image(img, ImageEncodeOptions{}, bytes), "");
+  return bytes;
+}
+
+// The chunk `type` with `data` (its CRC is not checked by the test's reader).
+std::vector<uint8_t> chunk(const char* type, const std::string& data) {
+  const uint32_t n = uint32_t(data.size());
+  std::vector<uint8_t> c = {uint8_t(n >> 24), uint8_t(n >> 16), uint8_t(n >> 8), uint8_t(n)};
+  c.insert(c.end(), type, type + 4);
+  c.insert(c.end(), data.begin(), data.end());
+  c.insert(c.end(), 4, 0);
+  return c;
+}
+
+TEST(LosslessRepack, OnlyPngsThatHoldPixelsAloneQualify) {
+  const std::vector<uint8_t> png = our_png(16);
+  std::string types;
+  for (size_t at = 8; at + 12 <= png.size();) {
+    types += std::string(reinterpret_cast<const char*>(&png[at + 4]), 4) + " ";
+    at += 12 + (size_t(png[at]) << 24 | size_t(png[at + 1]) << 16 | size_t(png[at + 2]) << 8 | png[at + 3]);
+  }
+  EXPECT_TRUE(png_holds_only_pixels(png)) << types;
+  // A text chunk (or a colour profile) before IEND would be lost by re-encoding.
+  for (const char* type : {"tEXt", "iCCP", "gAMA"}) {
+    std::vector<uint8_t> with = png;
+    const std::vector<uint8_t> extra = chunk(type, "Author\0x");
+    with.insert(with.end() - 12, extra.begin(), extra.end());
+    EXPECT_FALSE(png_holds_only_pixels(with)) << type;
+  }
+  for (size_t cut : {size_t(4), size_t(20), png.size() - 1}) {
+    const std::vector<uint8_t> truncated(png.begin(), png.begin() + std::ptrdiff_t(cut));
+    EXPECT_FALSE(png_holds_only_pixels(truncated)) << cut;
+  }
+  std::vector<uint8_t> trailing = png;
+  trailing.push_back(0);
+  EXPECT_FALSE(png_holds_only_pixels(trailing));
+  std::vector<uint8_t> jpeg;
+  std::string err;
+  OIIO::ImageBuf img;
+  ASSERT_TRUE(decode_image(png, img, err)) << err;
+  ASSERT_TRUE(encode_image(img, "image/jpeg", 80, jpeg, err)) << err;
+  EXPECT_FALSE(png_holds_only_pixels(jpeg));
+}
+
+TEST(LosslessRepack, FallbackWritesSmallerPngsOfTheSamePixels) {
+  tinygltf::Model m = test::empty_scene();
+  const int image = test::add_png_image(m, 128);  // stb's PNG writer: larger than ours
+  test::add_primitive(m, test::grid_mesh(8, 8), test::add_material(m, test::add_texture(m, image)));
+  const std::vector<uint8_t> source = m.images[size_t(image)].image;
+  EncodeOptions o;
+  o.min_psnr = 99;  // no atlas reaches it: the group keeps explicit UVs
+  o.goal_psnr = 0;
+  EncodeReport report;
+  ASSERT_EQ(encode_model(m, o, report).message, "");
+  ASSERT_EQ(report.primitives.size(), 1u);
+  const Fallback& why = report.primitives[0].fallback;
+  ASSERT_EQ(why.reason, FallbackReason::below_quality_floor);
+  EXPECT_EQ(why.images_repacked, 1u);
+  EXPECT_EQ(why.repacked_bytes_before, source.size());
+
+  ASSERT_EQ(m.images.size(), 1u);
+  // The encoder moved the image into a buffer view.
+  const tinygltf::Image& im = m.images[0];
+  std::vector<uint8_t> written = im.image;
+  if (written.empty() && im.bufferView >= 0) {
+    const tinygltf::BufferView& bv = m.bufferViews[size_t(im.bufferView)];
+    const auto& data = m.buffers[size_t(bv.buffer)].data;
+    written.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
+                   data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
+  }
+  EXPECT_EQ(why.repacked_bytes_after, written.size());
+  EXPECT_LT(written.size(), source.size());
+  EXPECT_EQ(m.images[0].mimeType, "image/png");
+  OIIO::ImageBuf before, after;
+  std::string err;
+  ASSERT_TRUE(decode_image(source, before, err)) << err;
+  ASSERT_TRUE(decode_image(written, after, err)) << err;
+  ASSERT_EQ(after.spec().nchannels, before.spec().nchannels);
+  ASSERT_EQ(after.spec().format, before.spec().format);
+  EXPECT_EQ(OIIO::ImageBufAlgo::compare(after, before, 0.0f, 0.0f).maxerror, 0.0);
+}
+
+}  // namespace
+}  // namespace gltfwarp
