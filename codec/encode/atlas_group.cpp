@@ -413,8 +413,12 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     EqualQualityImages alternative;
     const std::set<int> replaceable = replaceable_images(model, group, built);
     const LossySources lossy = lossy_sources(model, group, options, replaceable);
+    // Only a group that may fall back needs them (PNG coding of a large
+    // atlas-sized source costs seconds); with --always-implicit the report
+    // prices the sources as they are.
     LosslessRepacks repacks;
-    if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
+    if (options.quality_fallback)
+      if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
     if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
                                        built.floor_psnr(), alternative);
         e.failed())
