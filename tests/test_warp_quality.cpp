@@ -1,8 +1,12 @@
 // The encoder's quality check: identical textures on identical UVs measure
-// 99 dB, a half-texel shift of a sharp texture measures far less, and a large
-// mesh is measured within its point budget.
+// 99 dB, a half-texel shift of a sharp texture measures far less, a large
+// mesh is measured within its point budget, and the figures do not depend on
+// how many threads measure them.
 #include <gtest/gtest.h>
 
+#include <OpenImageIO/imageio.h>
+
+#include "codec/encode/texture/mip_quality.h"
 #include "codec/encode/texture/warp_quality.h"
 
 namespace gltfwarp {
@@ -77,6 +81,48 @@ TEST(WarpQuality, PerGroupErrorsAddUp) {
   EXPECT_EQ(per[0].values + per[2].values, 0u);
   EXPECT_EQ(per[1].values + per[3].values, total.values);
   EXPECT_DOUBLE_EQ(per[1].squared, total.squared);
+}
+
+// The encoder's decisions compare these figures with thresholds, so they
+// must be the same bits on a 2-core CI machine and a 64-core workstation:
+// faces are measured in parallel but summed in one order.
+TEST(WarpQuality, FiguresDoNotDependOnTheThreadCount) {
+  TextureSampler source, atlas;
+  load_texture_sampler(checker(256, 3), true, 10497, 10497, {1, 0, 0, 0, 1, 0}, source);
+  load_texture_sampler(checker(128, 2), true, 33071, 33071, {1, 0, 0, 0, 1, 0}, atlas);
+  std::vector<float> su, au;
+  std::vector<uint32_t> groups;
+  for (int i = 0; i < 3000; ++i) {  // slightly different maps: every face has its own error
+    const float t = float(i % 97) / 97, k = 1 + float(i % 13) / 50;
+    const float s[] = {t, 0, t + 0.2f, 0, t, 0.2f}, a[] = {t * k, 0.01f, (t + 0.2f) * k, 0, t, 0.2f * k};
+    su.insert(su.end(), s, s + 6);
+    au.insert(au.end(), a, a + 6);
+    groups.push_back(uint32_t(i % 50));
+  }
+  const SurfaceUvs prims[] = {{su, au, groups}};
+  auto measure = [&](int threads, std::vector<SurfaceError>& per, MipQuality& mip) {
+    int before = 0;
+    OIIO::getattribute("threads", before);
+    OIIO::attribute("threads", threads);
+    const SurfaceError e = surface_error(source, atlas, prims, 4'000'000, &per);
+    mip = mip_surface_error(source, atlas, prims);
+    OIIO::attribute("threads", before);
+    return e;
+  };
+  std::vector<SurfaceError> per1, per8;
+  MipQuality mip1, mip8;
+  const SurfaceError one = measure(1, per1, mip1), eight = measure(8, per8, mip8);
+  ASSERT_GT(one.values, 0u);
+  EXPECT_GT(one.squared, 0.0);
+  EXPECT_EQ(one.squared, eight.squared);  // bit for bit, not nearly
+  EXPECT_EQ(one.values, eight.values);
+  ASSERT_EQ(per1.size(), per8.size());
+  for (size_t g = 0; g < per1.size(); ++g) EXPECT_EQ(per1[g].squared, per8[g].squared) << "group " << g;
+  for (int l = 0; l < kMipLevels; ++l) {
+    EXPECT_GT(mip1.level[l].values, 0u);
+    EXPECT_EQ(mip1.level[l].squared, mip8.level[l].squared) << "level " << l;
+    EXPECT_EQ(mip1.worst_psnr[l], mip8.worst_psnr[l]) << "level " << l;
+  }
 }
 
 }  // namespace

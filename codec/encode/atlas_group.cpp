@@ -305,8 +305,11 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
                      const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
                      double min_psnr, const QualityAim& aim, GroupAtlas& built, double& factor_used) {
   const double reach = aim.boost ? std::max(min_psnr, aim.goal) : min_psnr;
+  // Below the floor the atlas is tried again or given up, never written.
+  const double code_floor = options.quality_fallback ? min_psnr : 0;
   for (double factor : factors) {
-    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, {}, built); e.failed())
+    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, {}, built, code_floor);
+        e.failed())
       return e;
     factor_used = factor;
     if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= reach || built.capped) break;
@@ -443,6 +446,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
+    if (!built.coded) return {ErrorCode::internal, "an atlas below the quality floor was not coded"};
     commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }
   drop_unused_textures(model, retired_textures);

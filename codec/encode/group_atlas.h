@@ -66,8 +66,9 @@ struct GroupAtlas {
       if (e.values) worst = std::min(worst, e.psnr());
     return worst;
   }
-  bool capped = false;                             // the atlas was shrunk to fit --max-atlas-size
-  uint32_t patch_count = 0;                        // over the members, numbered member by member
+  bool capped = false;       // the atlas was shrunk to fit --max-atlas-size
+  bool coded = true;         // every job holds its bytes (build_group_atlas's code_floor)
+  uint32_t patch_count = 0;  // over the members, numbered member by member
   std::vector<std::vector<uint32_t>> group_patch;  // per member, per face: its patch in that numbering
   std::vector<SurfaceError> patch_error;           // per patch, colour slots
   std::vector<double> patch_texels;                // per patch: its triangles' area in atlas texels
@@ -91,10 +92,12 @@ using SourceImages = std::map<int, SourceImage>;
 using StepBias = std::vector<std::vector<int32_t>>;
 
 // Every stage, for an atlas the file may hold: the tightest packing, every
-// slot (normal maps too) coded in its output format.
+// slot (normal maps too) coded in its output format. With `code_floor` > 0
+// an atlas whose quality (floor_psnr) ends below it, which the caller will
+// not keep, may be left without its losslessly coded bytes (out.coded false).
 Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                         const EncodeOptions& options, SourceImages& sources, double density_factor,
-                        const StepBias& step_bias, GroupAtlas& out);
+                        const StepBias& step_bias, GroupAtlas& out, double code_floor = 0);
 
 // An adaptive round's trial: each patch's texels (patch_texels) and error
 // (patch_error), and whether the atlas was capped. One packing order, colour

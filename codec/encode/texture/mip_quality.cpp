@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include <OpenImageIO/parallel.h>
+
 #include "codec/encode/texture/texel_reach.h"
 
 namespace gltfwarp {
@@ -29,7 +31,7 @@ std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels) {
     down.pixels.reset(OIIO::ImageSpec(dw, dh, nch, OIIO::TypeDesc::FLOAT));
     const float* src = static_cast<const float*>(up.pixels.localpixels());
     float* dst = static_cast<float*>(down.pixels.localpixels());
-    for (int y = 0; y < dh; ++y)
+    OIIO::parallel_for(0, dh, [&](int y) {
       for (int x = 0; x < dw; ++x)
         for (int c = 0; c < nch; ++c) {
           double sum = 0;
@@ -40,6 +42,7 @@ std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels) {
             }
           dst[(size_t(y) * dw + x) * nch + c] = float(sum / 4);
         }
+    });
     chain.push_back(std::move(down));
   }
   return chain;
@@ -116,45 +119,61 @@ MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler&
   }
   const uint64_t stride =
       std::max<uint64_t>(1, (total + options.max_points - 1) / std::max<uint64_t>(1, options.max_points));
-  std::vector<float> a(4), a2(4), b(4);
+  // The sampled faces, in order: each level measures them in parallel into
+  // its own slot, then sums in this order, so the figures do not depend on
+  // the thread count.
+  struct Face {
+    uint32_t prim, face;
+  };
+  std::vector<Face> faces;
+  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
+    for (size_t f = 0; f < side[p].size(); ++f, ++face_index)
+      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
+  std::vector<SurfaceError> measured(faces.size());
+  std::vector<uint8_t> in_atlas(faces.size());
   for (int l = 0; l < kMipLevels; ++l) {
-    std::vector<SurfaceError> groups;
-    uint64_t face_index = 0;
-    for (size_t p = 0; p < prims.size(); ++p) {
-      const float* su = prims[p].source_uv.data();
-      const float* du = prims[p].atlas_uv.data();
-      for (size_t f = 0; f < side[p].size(); ++f, ++face_index) {
-        if (face_index % stride != 0) continue;
-        const float* s = su + 6 * f;
-        const float* d = du + 6 * f;
+    OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
+      float a[4], a2[4], b[4];
+      for (uint64_t i = begin; i < end; ++i) {
+        const auto [p, f] = faces[i];
+        measured[i] = {};
+        in_atlas[i] = 0;
+        const float* s = prims[p].source_uv.data() + 6 * size_t(f);
+        const float* d = prims[p].atlas_uv.data() + 6 * size_t(f);
         const double sa = uv_area(s) * src_texels, da = uv_area(d) * atlas_texels;
         if (!(da > 0)) continue;
+        in_atlas[i] = 1;
         // Level l: a screen footprint of 2^l texels of the finer grid; each
         // side at its own LOD there (trilinear), so level 0 magnifies both (the plain surface PSNR).
         const double rho = 0.5 * std::log2(std::max(sa, 1e-30) / da);  // log2 source texels per atlas texel
         const double slod = std::clamp(l + std::max(0.0, rho), 0.0, double(schain.size() - 1));
         const double alod = std::clamp(l + std::max(0.0, -rho), 0.0, double(achain.size() - 1));
-        SurfaceError face;
+        SurfaceError& face = measured[i];
         for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
           const double us = w0 * s[0] + w1 * s[2] + w2 * s[4], vs = w0 * s[1] + w1 * s[3] + w2 * s[5];
-          trilinear(schain, slod, us, vs, channels, a.data(), a2.data());
+          trilinear(schain, slod, us, vs, channels, a, a2);
           trilinear(achain, alod, w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5],
-                    channels, b.data(), a2.data());
+                    channels, b, a2);
           for (int c = 0; c < channels; ++c) {
             const double diff = 255.0 * (double(a[c]) - b[c]);
             face.squared += diff * diff;
           }
           face.values += uint64_t(channels);
         });
-        q.level[l].add(face);
-        const auto& g = prims[p].group_of_face;
-        const size_t group = f < g.size() ? g[f] : face_index;
-        if (f < g.size()) {
-          if (group >= groups.size()) groups.resize(group + 1);
-          groups[group].add(face);
-        } else {
-          groups.push_back(face);
-        }
+      }
+    });
+    std::vector<SurfaceError> groups;
+    for (size_t i = 0; i < faces.size(); ++i) {
+      const auto [p, f] = faces[i];
+      if (!in_atlas[i]) continue;
+      const SurfaceError& face = measured[i];
+      q.level[l].add(face);
+      const auto& g = prims[p].group_of_face;
+      if (f < g.size()) {
+        if (g[f] >= groups.size()) groups.resize(size_t(g[f]) + 1);
+        groups[g[f]].add(face);
+      } else {
+        groups.push_back(face);
       }
     }
     q.worst_psnr[l] = worst_region_psnr(std::move(groups), options.worst_fraction);

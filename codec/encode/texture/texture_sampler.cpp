@@ -3,6 +3,8 @@
 
 #include <vector>
 
+#include <OpenImageIO/parallel.h>
+
 #include <tiny_gltf.h>
 
 #include "codec/encode/texture/image_io.h"
@@ -68,13 +70,17 @@ void load_texture_sampler(const OIIO::ImageBuf& raw, bool srgb, int gl_wrap_s, i
   spec.set_format(OIIO::TypeDesc::FLOAT);
   spec.x = spec.y = 0;
   s.pixels.reset(spec);
-  std::vector<float> px(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  raw.get_pixels(raw.roi(), OIIO::TypeDesc::FLOAT, px.data());
+  float* px = static_cast<float*>(s.pixels.localpixels());
+  if (px) raw.get_pixels(raw.roi(), OIIO::TypeDesc::FLOAT, px);
   s.srgb = srgb;
-  if (srgb)
-    for (size_t i = 0; i < px.size(); ++i)
-      if (static_cast<int>(i % spec.nchannels) < 3) px[i] = srgb_to_linear(px[i]);
-  s.pixels.set_pixels(s.pixels.roi(), OIIO::TypeDesc::FLOAT, px.data());
+  // Row by row in parallel: an atlas-sized page is 16M powf calls.
+  const int nch = spec.nchannels, colour = std::min(3, nch);
+  if (srgb && px)
+    OIIO::parallel_for(0, spec.height, [&](int y) {
+      float* row = px + size_t(y) * spec.width * nch;
+      for (int x = 0; x < spec.width; ++x)
+        for (int c = 0; c < colour; ++c) row[size_t(x) * nch + c] = srgb_to_linear(row[size_t(x) * nch + c]);
+    });
   s.wrap_s = oiio_wrap(gl_wrap_s);
   s.wrap_t = oiio_wrap(gl_wrap_t);
   s.transform = transform;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include <OpenImageIO/parallel.h>
+
 namespace gltfwarp {
 
 double SurfaceError::psnr() const {
@@ -39,16 +41,24 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
     }
   }
   const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
-  std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));
-  uint64_t face_index = 0;
-  for (size_t p = 0; p < prims.size(); ++p) {
-    const auto& su = prims[p].source_uv;
-    const auto& du = prims[p].atlas_uv;
-    for (size_t f = 0; f < side[p].size(); ++f, ++face_index) {
-      if (face_index % stride != 0) continue;
-      const float* s = &su[6 * f];
-      const float* d = &du[6 * f];
-      SurfaceError face;
+  // The sampled faces in order, measured in parallel, summed in this order:
+  // the figures do not depend on the thread count.
+  struct Face {
+    uint32_t prim, face;
+  };
+  std::vector<Face> faces;
+  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
+    for (size_t f = 0; f < side[p].size(); ++f, ++face_index)
+      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
+  std::vector<SurfaceError> measured(faces.size());
+  OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
+    std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));
+    for (uint64_t i = begin; i < end; ++i) {
+      const auto [p, f] = faces[i];
+      const float* s = &prims[p].source_uv[6 * size_t(f)];
+      const float* d = &prims[p].atlas_uv[6 * size_t(f)];
+      SurfaceError& face = measured[i];
+      face = {};
       for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
         source.sample(w0 * s[0] + w1 * s[2] + w2 * s[4], w0 * s[1] + w1 * s[3] + w2 * s[5], a.data());
         atlas.sample(w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5], b.data());
@@ -58,12 +68,16 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
         }
         face.values += uint64_t(channels);
       });
-      e.add(face);
-      const auto& groups = prims[p].group_of_face;
-      if (per_group && f < groups.size()) {
-        if (groups[f] >= per_group->size()) per_group->resize(size_t(groups[f]) + 1);
-        (*per_group)[groups[f]].add(face);
-      }
+    }
+  });
+  for (size_t i = 0; i < faces.size(); ++i) {
+    const auto [p, f] = faces[i];
+    const SurfaceError& face = measured[i];
+    e.add(face);
+    const auto& groups = prims[p].group_of_face;
+    if (per_group && f < groups.size()) {
+      if (groups[f] >= per_group->size()) per_group->resize(size_t(groups[f]) + 1);
+      (*per_group)[groups[f]].add(face);
     }
   }
   return e;
