@@ -119,16 +119,9 @@ MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler&
   }
   const uint64_t stride =
       std::max<uint64_t>(1, (total + options.max_points - 1) / std::max<uint64_t>(1, options.max_points));
-  // The sampled faces, in order: each level measures them in parallel into
-  // its own slot, then sums in this order, so the figures do not depend on
-  // the thread count.
-  struct Face {
-    uint32_t prim, face;
-  };
-  std::vector<Face> faces;
-  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
-    for (size_t f = 0; f < side[p].size(); ++f, ++face_index)
-      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
+  // Each level measures the sampled faces in parallel, each into its own
+  // slot, then sums them in order.
+  const std::vector<SampledFace> faces = every_nth_face(side, stride);
   std::vector<SurfaceError> measured(faces.size());
   std::vector<uint8_t> in_atlas(faces.size());
   for (int l = 0; l < kMipLevels; ++l) {

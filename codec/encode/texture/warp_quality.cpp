@@ -15,6 +15,14 @@ double SurfaceError::psnr() const {
   return mse > 0 ? std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 99.0;
 }
 
+std::vector<SampledFace> every_nth_face(std::span<const std::vector<int>> faces_per_prim, uint64_t stride) {
+  std::vector<SampledFace> faces;
+  for (uint64_t p = 0, face_index = 0; p < faces_per_prim.size(); ++p)
+    for (size_t f = 0; f < faces_per_prim[p].size(); ++f, ++face_index)
+      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
+  return faces;
+}
+
 SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
                            std::span<const SurfaceUvs> prims, uint64_t max_points,
                            std::vector<SurfaceError>* per_group) {
@@ -41,15 +49,7 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
     }
   }
   const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
-  // The sampled faces in order, measured in parallel, summed in this order:
-  // the figures do not depend on the thread count.
-  struct Face {
-    uint32_t prim, face;
-  };
-  std::vector<Face> faces;
-  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
-    for (size_t f = 0; f < side[p].size(); ++f, ++face_index)
-      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
+  const std::vector<SampledFace> faces = every_nth_face(side, stride);
   std::vector<SurfaceError> measured(faces.size());
   OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
     std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));

@@ -38,4 +38,13 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
                            std::span<const SurfaceUvs> prims, uint64_t max_points = 4'000'000,
                            std::vector<SurfaceError>* per_group = nullptr);
 
+// A face both measures sample: its primitive and its index there.
+struct SampledFace {
+  uint32_t prim, face;
+};
+// Every stride-th face over the primitives (faces_per_prim of each), in
+// order. The measures sample these in parallel and sum them in this order,
+// so their figures do not depend on the thread count.
+std::vector<SampledFace> every_nth_face(std::span<const std::vector<int>> faces_per_prim, uint64_t stride);
+
 }  // namespace gltfwarp
