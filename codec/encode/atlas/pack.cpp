@@ -88,6 +88,70 @@ struct TriRaster {
   }
 };
 
+// Scratch buffers of build_mask, one set per worker.
+struct MaskScratch {
+  std::vector<double> q;
+  std::vector<uint8_t> bits, tmp;
+};
+
+size_t worker_count(size_t jobs) {
+  return std::max<size_t>(1, std::min<size_t>(jobs, std::thread::hardware_concurrency()));
+}
+
+// Calls job(i, worker) for every i < count on `workers` threads (this one
+// included); worker < workers names the thread, for per-thread scratch.
+// Jobs must write only their own results, so the outcome does not depend on
+// the thread count.
+template <class Job>
+void run_in_parallel(size_t count, size_t workers, const Job& job) {
+  std::atomic<size_t> next{0};
+  auto work = [&](size_t worker) {
+    for (size_t i; (i = next.fetch_add(1)) < count;) job(i, worker);
+  };
+  std::vector<std::thread> pool;
+  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
+  work(0);
+  for (std::thread& th : pool) th.join();
+}
+
+// Chebyshev dilation of a tw x th bit image by r, rows then columns. A cell is
+// set when some set cell lies within r along the pass's axis: one sweep each
+// way tracking the nearest set cell, so the cost does not grow with r.
+void dilate_chebyshev(std::vector<uint8_t>& bits, int tw, int th, int r, std::vector<uint8_t>& tmp) {
+  constexpr int kFar = INT_MIN / 2;
+  tmp.assign(bits.size(), 0);
+  for (int j = 0; j < th; ++j) {
+    const uint8_t* row = &bits[size_t(j) * tw];
+    uint8_t* out = &tmp[size_t(j) * tw];
+    for (int i = 0, last = kFar; i < tw; ++i) {
+      if (row[i]) last = i;
+      out[i] = i - last <= r;
+    }
+    for (int i = tw - 1, next = -kFar; i >= 0; --i) {
+      if (row[i]) next = i;
+      out[i] |= next - i <= r;
+    }
+  }
+  std::vector<int> nearest(size_t(tw), kFar);
+  for (int j = 0; j < th; ++j) {
+    const uint8_t* in = &tmp[size_t(j) * tw];
+    uint8_t* out = &bits[size_t(j) * tw];
+    for (int i = 0; i < tw; ++i) {
+      if (in[i]) nearest[i] = j;
+      out[i] = j - nearest[i] <= r;
+    }
+  }
+  nearest.assign(size_t(tw), -kFar);
+  for (int j = th - 1; j >= 0; --j) {
+    const uint8_t* in = &tmp[size_t(j) * tw];
+    uint8_t* out = &bits[size_t(j) * tw];
+    for (int i = 0; i < tw; ++i) {
+      if (in[i]) nearest[i] = j;
+      out[i] |= nearest[i] - j <= r;
+    }
+  }
+}
+
 void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code, double scale,
                 int r, int cell, bool true_shape, Mask& m, std::vector<double>& q, std::vector<uint8_t>& bits,
                 std::vector<uint8_t>& tmp) {
@@ -118,21 +182,7 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
     TriRaster::conservative(q[6 * k] - m.bx0, q[6 * k + 1] - m.by0, q[6 * k + 2] - m.bx0,
                             q[6 * k + 3] - m.by0, q[6 * k + 4] - m.bx0, q[6 * k + 5] - m.by0, tw, th, bits);
   if (!true_shape) std::fill(bits.begin(), bits.end(), 1);  // the bounding rectangle
-  if (r > 0 && true_shape) {                                // Chebyshev dilation by r: rows then columns
-    tmp.assign(bits.size(), 0);
-    for (int j = 0; j < th; ++j) {
-      const uint8_t* row = &bits[size_t(j) * tw];
-      uint8_t* out = &tmp[size_t(j) * tw];
-      for (int i = 0; i < tw; ++i)
-        if (row[i])
-          for (int d = std::max(0, i - r); d <= std::min(tw - 1, i + r); ++d) out[d] = 1;
-    }
-    std::fill(bits.begin(), bits.end(), 0);
-    for (int j = 0; j < th; ++j)
-      for (int i = 0; i < tw; ++i)
-        if (tmp[size_t(j) * tw + i])
-          for (int d = std::max(0, j - r); d <= std::min(th - 1, j + r); ++d) bits[size_t(d) * tw + i] = 1;
-  }
+  if (r > 0 && true_shape) dilate_chebyshev(bits, tw, th, r, tmp);
   m.cw = (tw + cell - 1) / cell;
   m.ch = (th + cell - 1) / cell;
   m.bottom.assign(m.cw, kNone);
@@ -609,8 +659,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
   }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));
-  std::vector<double> q;
-  std::vector<uint8_t> bits, tmp;
   const uint32_t max_size = options.max_atlas_size;
   for (uint32_t attempt = 0; attempt <= options.max_retries; ++attempt) {
     // Rough footprint at this scale (triangle area plus the dilated bounding
@@ -646,13 +694,21 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       const double side = std::sqrt(texel_area / 0.8);
       cell = side <= 640 ? 1 : side <= 2560 ? 2 : 4;
     }
-    uint64_t cell_area = 0;
-    for (PatchInfo& p : patches) {
-      if (p.copy_of >= 0) continue;
+    // Each patch writes only its own masks, so they are built side by side.
+    std::vector<MaskScratch> scratch(worker_count(patches.size()));
+    run_in_parallel(patches.size(), scratch.size(), [&](size_t pi, size_t worker) {
+      PatchInfo& p = patches[pi];
+      if (p.copy_of >= 0) return;
+      MaskScratch& sc = scratch[worker];
       p.mask_count = options.rotate_90 ? 4 : 1;
       for (int k = 0; k < p.mask_count; ++k)
         build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
-                   scale * pscale(p.scale_step), r, cell, options.true_shapes, p.masks[k], q, bits, tmp);
+                   scale * pscale(p.scale_step), r, cell, options.true_shapes, p.masks[k], sc.q, sc.bits,
+                   sc.tmp);
+    });
+    uint64_t cell_area = 0;
+    for (PatchInfo& p : patches) {
+      if (p.copy_of >= 0) continue;
       cell_area += p.masks[0].cells;
       p.order_key = uint64_t(std::max(p.masks[0].ch, p.masks[0].cw)) << 32 | p.masks[0].cells;
     }
@@ -723,18 +779,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       t.pages = uint32_t(trial_pages.size());
       t.area = uint64_t(t.w) * t.h * t.pages;
     };
-    {
-      std::atomic<size_t> next{0};
-      auto worker = [&] {
-        for (size_t i; (i = next.fetch_add(1)) < trials.size();) run_trial(trials[i]);
-      };
-      const size_t nthreads =
-          std::min<size_t>(trials.size(), std::max(1u, std::thread::hardware_concurrency()));
-      std::vector<std::thread> pool;
-      for (size_t i = 1; i < nthreads; ++i) pool.emplace_back(worker);
-      worker();
-      for (std::thread& th : pool) th.join();
-    }
+    run_in_parallel(trials.size(), worker_count(trials.size()),
+                    [&](size_t i, size_t) { run_trial(trials[i]); });
     uint64_t best_area = UINT64_MAX;
     uint32_t best_w = 0, best_h = 0, best_pages = 0;
     std::vector<Placed> best_placed;
