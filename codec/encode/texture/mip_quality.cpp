@@ -50,11 +50,6 @@ std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels) {
 
 namespace {
 
-double uv_area(const float* u) {
-  return 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
-                        (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
-}
-
 // PSNR over the worst groups holding `fraction` of the values.
 double worst_region_psnr(std::vector<SurfaceError> groups, double fraction) {
   uint64_t total = 0;
@@ -106,22 +101,11 @@ MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler&
   const std::vector<TextureSampler> achain =
       mip_chain(atlas, 1 + int(std::ceil(std::log2(std::max(1, atlas_side)))));
   const int channels = std::min({3, source.channels(), atlas.channels()});
-  uint64_t total = 0;
-  std::vector<std::vector<int>> side(prims.size());
-  for (size_t p = 0; p < prims.size(); ++p) {
-    const size_t nf = std::min(prims[p].source_uv.size(), prims[p].atlas_uv.size()) / 6;
-    side[p].resize(nf);
-    for (size_t f = 0; f < nf; ++f) {
-      const int n = surface_points_per_side(uv_area(&prims[p].source_uv[6 * f]) * src_texels);
-      side[p][f] = n;
-      total += uint64_t(n) * n;
-    }
-  }
-  const uint64_t stride =
-      std::max<uint64_t>(1, (total + options.max_points - 1) / std::max<uint64_t>(1, options.max_points));
   // Each level measures the sampled faces in parallel, each into its own
   // slot, then sums them in order.
-  const std::vector<SampledFace> faces = every_nth_face(side, stride);
+  const FaceSampling sampling = sample_faces(prims, src_texels, options.max_points);
+  const std::vector<SampledFace>& faces = sampling.faces;
+  const std::vector<std::vector<int>>& side = sampling.side;
   std::vector<SurfaceError> measured(faces.size());
   std::vector<uint8_t> in_atlas(faces.size());
   for (int l = 0; l < kMipLevels; ++l) {

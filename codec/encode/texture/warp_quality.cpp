@@ -15,12 +15,29 @@ double SurfaceError::psnr() const {
   return mse > 0 ? std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 99.0;
 }
 
-std::vector<SampledFace> every_nth_face(std::span<const std::vector<int>> faces_per_prim, uint64_t stride) {
-  std::vector<SampledFace> faces;
-  for (uint64_t p = 0, face_index = 0; p < faces_per_prim.size(); ++p)
-    for (size_t f = 0; f < faces_per_prim[p].size(); ++f, ++face_index)
-      if (face_index % stride == 0) faces.push_back({uint32_t(p), uint32_t(f)});
-  return faces;
+double uv_area(const float* u) {
+  return 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
+                        (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
+}
+
+FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texels, uint64_t max_points) {
+  FaceSampling out;
+  out.side.resize(prims.size());
+  uint64_t total = 0;
+  for (size_t p = 0; p < prims.size(); ++p) {
+    const size_t nf = std::min(prims[p].source_uv.size(), prims[p].atlas_uv.size()) / 6;
+    out.side[p].resize(nf);
+    for (size_t f = 0; f < nf; ++f) {
+      const int n = surface_points_per_side(uv_area(&prims[p].source_uv[6 * f]) * source_texels);
+      out.side[p][f] = n;
+      total += uint64_t(n) * n;
+    }
+  }
+  const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
+  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
+    for (size_t f = 0; f < out.side[p].size(); ++f, ++face_index)
+      if (face_index % stride == 0) out.faces.push_back({uint32_t(p), uint32_t(f)});
+  return out;
 }
 
 SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
@@ -33,23 +50,9 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
   const double texels = double(spec.width) * spec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
   const int channels = std::min({3, source.channels(), atlas.channels()});
   // Points per face first, to spread a capped budget evenly over the faces.
-  std::vector<std::vector<int>> side(prims.size());
-  uint64_t total = 0;
-  for (size_t p = 0; p < prims.size(); ++p) {
-    const auto& uv = prims[p].source_uv;
-    const size_t nf = std::min(uv.size(), prims[p].atlas_uv.size()) / 6;
-    side[p].resize(nf);
-    for (size_t f = 0; f < nf; ++f) {
-      const float* u = &uv[6 * f];
-      const double area = 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
-                                         (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
-      const int n = surface_points_per_side(area * texels);
-      side[p][f] = n;
-      total += uint64_t(n) * n;
-    }
-  }
-  const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
-  const std::vector<SampledFace> faces = every_nth_face(side, stride);
+  const FaceSampling sampling = sample_faces(prims, texels, max_points);
+  const std::vector<SampledFace>& faces = sampling.faces;
+  const std::vector<std::vector<int>>& side = sampling.side;
   std::vector<SurfaceError> measured(faces.size());
   OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
     std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));

@@ -42,9 +42,18 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
 struct SampledFace {
   uint32_t prim, face;
 };
-// Every stride-th face over the primitives (faces_per_prim of each), in
-// order. The measures sample these in parallel and sum them in this order,
-// so their figures do not depend on the thread count.
-std::vector<SampledFace> every_nth_face(std::span<const std::vector<int>> faces_per_prim, uint64_t stride);
+// Where both measures sample: points per side of every face
+// (surface_points_per_side of its source area in texels), and every
+// stride-th face over the primitives in order, the stride spreading a budget
+// of about max_points evenly. The measures sample these faces in parallel and
+// sum them in this order, so their figures do not depend on the thread count.
+struct FaceSampling {
+  std::vector<std::vector<int>> side;  // per primitive, per face
+  std::vector<SampledFace> faces;
+};
+FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texels, uint64_t max_points);
+
+// Area of a triangle of 3 UV pairs, in UV units squared.
+double uv_area(const float* uv);
 
 }  // namespace gltfwarp
