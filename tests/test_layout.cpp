@@ -7,6 +7,7 @@
 #include <random>
 
 #include "codec/core/layout.h"
+#include "codec/core/topology.h"
 #include "tests/support/testing/shapes.h"
 
 namespace gltfwarp {
@@ -113,6 +114,59 @@ TEST(Layout, DegenerateSingletonsAreFinite) {
   std::vector<double> xy;
   ASSERT_EQ(layout_patches(m, pof, m.face_count(), xy), LayoutStatus::ok);
   for (double x : xy) ASSERT_TRUE(std::isfinite(x));
+}
+
+// Ranges of patches replay on several threads (layout.h): the positions, and
+// the error a bad patch gives, must not depend on how many.
+TEST(Layout, ThreadCountDoesNotChangeTheBits) {
+  const TriMesh m = make_bumpy_sphere(400, 200).mesh;
+  const uint32_t nf = m.face_count();
+  ASSERT_GE(nf, 4u << 15);  // enough faces for four threads
+  // Connected patches of up to 777 faces, grown breadth-first across edges
+  // from the lowest unassigned face, so they are numbered by lowest face.
+  const std::vector<uint32_t> opposite = build_opposite_corners(m, build_vertex_faces(m));
+  std::vector<uint32_t> pof(nf, kNone);
+  uint32_t patches = 0;
+  for (uint32_t seed = 0; seed < nf; ++seed) {
+    if (pof[seed] != kNone) continue;
+    std::vector<uint32_t> queue = {seed};
+    pof[seed] = patches;
+    for (size_t i = 0; i < queue.size() && queue.size() < 777; ++i)
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t c = opposite[3 * queue[i] + k];
+        if (c == kNone || pof[c / 3] != kNone || queue.size() == 777) continue;
+        pof[c / 3] = patches;
+        queue.push_back(c / 3);
+      }
+    ++patches;
+  }
+  std::vector<double> one, many;
+  ASSERT_EQ(layout_patches(m, pof, patches, one, {}, {}, {}, 1), LayoutStatus::ok);
+  for (const uint32_t threads : {2u, 3u, 4u, 0u}) {
+    ASSERT_EQ(layout_patches(m, pof, patches, many, {}, {}, {}, threads), LayoutStatus::ok);
+    ASSERT_EQ(0, std::memcmp(one.data(), many.data(), one.size() * sizeof(double))) << threads << " threads";
+  }
+  // The face sink sees every face once, with the same positions.
+  std::vector<double> sunk(one.size(), std::nan(""));
+  auto sink = [](void* context, uint32_t, uint32_t f, const Vec2 xy[3]) {
+    double* out = static_cast<double*>(context) + 6 * size_t{f};
+    for (int k = 0; k < 3; ++k) out[2 * k] = xy[k].x, out[2 * k + 1] = xy[k].y;
+  };
+  ASSERT_EQ(layout_patches(m, pof, patches, sink, sunk.data(), {}, {}, {}, 4), LayoutStatus::ok);
+  EXPECT_EQ(0, std::memcmp(one.data(), sunk.data(), one.size() * sizeof(double)));
+  // A patch near the end that cannot be reached: the same error from any count.
+  const uint32_t stray = nf - 10;
+  pof[stray] = pof[nf / 4];  // joins an early patch far from it
+  std::vector<uint32_t> renumbered(nf);
+  std::vector<uint32_t> remap(patches, ~0u);
+  uint32_t next = 0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    if (remap[pof[f]] == ~0u) remap[pof[f]] = next++;
+    renumbered[f] = remap[pof[f]];
+  }
+  for (const uint32_t threads : {1u, 2u, 4u})
+    EXPECT_EQ(layout_patches(m, renumbered, next, many, {}, {}, {}, threads), LayoutStatus::unreachable_face)
+        << threads << " threads";
 }
 
 }  // namespace

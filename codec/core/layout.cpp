@@ -10,8 +10,10 @@
 #include "codec/core/layout.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
+#include <thread>
 #include <vector>
 
 #if defined(__SSE2__)
@@ -375,53 +377,44 @@ inline uint32_t run_of(VertexState& v, const Incidence* entries, uint32_t p, uin
   return i;
 }
 
-// The replay (layout.h). emit(p, f, xy) receives each face of patch p, in
-// ascending face order, once p is fully placed.
-template <typename Emit>
-LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face, uint32_t patch_count,
-                    std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
-                    const SolveParams& solve, Emit&& emit) {
-  if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
-  const uint32_t nf = mesh.face_count(), nv = mesh.vertex_count();
-  if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
-  uint32_t next = 0;
-  for (uint32_t f = 0; f < nf; ++f) {
-    const uint32_t p = patch_of_face[f];
-    if (p >= patch_count) return LayoutStatus::bad_patch_id;
-    if (p == next)
-      ++next;
-    else if (p > next)
-      return LayoutStatus::patch_order;
-  }
-  if (next != patch_count) return LayoutStatus::bad_patch_id;
-  if (!seeds.empty()) {
-    if (seeds.size() != patch_count) return LayoutStatus::bad_seed;
-    for (uint32_t p = 0; p < patch_count; ++p)
-      if (seeds[p] >= nf || patch_of_face[seeds[p]] != p) return LayoutStatus::bad_seed;
-  }
-  if (!methods.empty()) {
-    if (methods.size() != patch_count) return LayoutStatus::bad_method;
-    for (const uint8_t m : methods)
-      if (m > uint8_t(LayoutMethod::solve)) return LayoutStatus::bad_method;
-  }
-  const uint32_t* idx = mesh.indices.data();
+// The validated input of the replay, shared read-only by its ranges.
+struct ReplayInput {
+  const TriMesh& mesh;
+  const std::vector<uint32_t>& poff;  // faces_by_patch
+  const std::vector<uint32_t>& pfaces;
+  std::span<const uint32_t> seeds;
+  std::span<const uint8_t> methods;
+  const SolveParams& solve;
+};
 
-  std::vector<uint32_t> poff, pfaces;
-  faces_by_patch(patch_of_face, patch_count, poff, pfaces);
+// Patches [first, last) of the replay, with their own incidences and
+// per-vertex state, so ranges run side by side without sharing a write.
+template <typename Emit>
+LayoutStatus replay_range(const ReplayInput& in, uint32_t first, uint32_t last, Emit& emit) {
+  const TriMesh& mesh = in.mesh;
+  const uint32_t nv = mesh.vertex_count();
+  const uint32_t* idx = mesh.indices.data();
+  const std::vector<uint32_t>& poff = in.poff;
+  const std::vector<uint32_t>& pfaces = in.pfaces;
+  const std::span<const uint32_t> seeds = in.seeds;
+  const std::span<const uint8_t> methods = in.methods;
+  const SolveParams& solve = in.solve;
+
   std::vector<VertexState> vs(nv);
   // Every entry is written below before it is read: no zero fill.
-  const std::unique_ptr<Incidence[]> entries_owner(new Incidence[size_t{nf} * 3]);
+  const size_t range_corners = 3 * size_t{poff[last] - poff[first]};
+  const std::unique_ptr<Incidence[]> entries_owner(new Incidence[range_corners]);
   Incidence* const entries = entries_owner.get();
   {
-    const size_t nc = size_t{nf} * 3;
-    for (size_t c = 0; c < nc; ++c) ++vs[idx[c]].end;
+    for (uint32_t i = poff[first]; i < poff[last]; ++i)
+      for (int k = 0; k < 3; ++k) ++vs[idx[3 * size_t{pfaces[i]} + k]].end;
     uint32_t sum = 0;
     for (VertexState& s : vs) {
       s.cursor = sum;  // used as the fill position, then reset to the start
       sum += s.end;
       s.end = sum;
     }
-    for (uint32_t p = 0; p < patch_count; ++p)
+    for (uint32_t p = first; p < last; ++p)
       for (uint32_t i = poff[p]; i < poff[p + 1]; ++i) {
         const uint32_t* t = idx + 3 * size_t{pfaces[i]};
         entries[vs[t[0]].cursor++] = {p, t[1], t[2]};
@@ -434,7 +427,6 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
       start = s.end;
     }
   }
-
   std::vector<Vec2> pos(nv);
   std::vector<uint32_t> fresh, list;
   std::vector<Unfolding> unf, unf2;
@@ -443,7 +435,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   SolveScratch solve_scratch;
   std::vector<Vec2> solve_pos;
 
-  for (uint32_t p = 0; p < patch_count; ++p) {
+  for (uint32_t p = first; p < last; ++p) {
     const uint32_t mark = p + 1;
     if (!methods.empty() && methods[p] == uint8_t(LayoutMethod::solve)) {
       const std::span<const uint32_t> pf(pfaces.data() + poff[p], poff[p + 1] - poff[p]);
@@ -459,9 +451,9 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
     const uint32_t seed = seeds.empty() ? pfaces[poff[p]] : seeds[p];
     // The next patches start far from where this one's growth left the
     // caches: fetch their seed faces' indices, then vertex state (hints only).
-    if (p + 2 < patch_count)
+    if (p + 2 < last)
       __builtin_prefetch(idx + 3 * size_t{seeds.empty() ? pfaces[poff[p + 2]] : seeds[p + 2]});
-    if (p + 1 < patch_count) {
+    if (p + 1 < last) {
       const uint32_t* t = idx + 3 * size_t{seeds.empty() ? pfaces[poff[p + 1]] : seeds[p + 1]};
       for (int k = 0; k < 3; ++k) {
         __builtin_prefetch(vs.data() + t[k]);
@@ -578,15 +570,84 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   return LayoutStatus::ok;
 }
 
+// Patches are laid out independently of each other (only their own marks,
+// positions and incidences are read), so contiguous ranges of them replay on
+// several threads, each with its own vertex state, and give the same bits as
+// one thread. Below this many faces per thread a thread costs more than it saves.
+constexpr uint32_t kFacesPerThread = 1u << 15;
+constexpr uint32_t kRangesPerThread = 3;
+
+// The replay (layout.h). emit(p, f, xy) receives each face of patch p, in
+// ascending face order, once p is fully placed.
+template <typename Emit>
+LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face, uint32_t patch_count,
+                    std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
+                    const SolveParams& solve, uint32_t max_threads, Emit&& emit) {
+  if (!mesh_indices_valid(mesh)) return LayoutStatus::bad_mesh;
+  const uint32_t nf = mesh.face_count();
+  if (patch_of_face.size() != nf) return LayoutStatus::bad_patch_id;
+  uint32_t next = 0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t p = patch_of_face[f];
+    if (p >= patch_count) return LayoutStatus::bad_patch_id;
+    if (p == next)
+      ++next;
+    else if (p > next)
+      return LayoutStatus::patch_order;
+  }
+  if (next != patch_count) return LayoutStatus::bad_patch_id;
+  if (!seeds.empty()) {
+    if (seeds.size() != patch_count) return LayoutStatus::bad_seed;
+    for (uint32_t p = 0; p < patch_count; ++p)
+      if (seeds[p] >= nf || patch_of_face[seeds[p]] != p) return LayoutStatus::bad_seed;
+  }
+  if (!methods.empty()) {
+    if (methods.size() != patch_count) return LayoutStatus::bad_method;
+    for (const uint8_t m : methods)
+      if (m > uint8_t(LayoutMethod::solve)) return LayoutStatus::bad_method;
+  }
+  std::vector<uint32_t> poff, pfaces;
+  faces_by_patch(patch_of_face, patch_count, poff, pfaces);
+  const ReplayInput input{mesh, poff, pfaces, seeds, methods, solve};
+  if (max_threads == 0) max_threads = std::thread::hardware_concurrency();
+  const uint32_t threads = std::max(1u, std::min({max_threads, nf / kFacesPerThread, patch_count}));
+  if (threads == 1) return replay_range(input, 0, patch_count, emit);
+  // Ranges of about equal face counts, cut at patch boundaries, a few per
+  // thread and taken in turn: equal face counts are not equal work.
+  const uint32_t ranges = std::min(patch_count, threads * kRangesPerThread);
+  std::vector<uint32_t> cut(ranges + 1, patch_count);
+  cut[0] = 0;
+  for (uint32_t r = 1, p = 0; r < ranges; ++r) {
+    const uint64_t target = uint64_t{nf} * r / ranges;
+    while (p < patch_count && poff[p] < target) ++p;
+    cut[r] = std::max(cut[r - 1], p);
+  }
+  std::vector<LayoutStatus> status(ranges, LayoutStatus::ok);
+  std::atomic<uint32_t> next_range{0};
+  auto work = [&] {
+    for (uint32_t r; (r = next_range.fetch_add(1)) < ranges;)
+      if (cut[r] < cut[r + 1]) status[r] = replay_range(input, cut[r], cut[r + 1], emit);
+  };
+  std::vector<std::thread> pool;
+  for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(work);
+  work();
+  for (std::thread& th : pool) th.join();
+  // The first failing range holds the first failing patch: the error a
+  // single thread reports.
+  for (const LayoutStatus st : status)
+    if (st != LayoutStatus::ok) return st;
+  return LayoutStatus::ok;
+}
+
 }  // namespace
 
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy,
                             std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
-                            const SolveParams& solve) {
+                            const SolveParams& solve, uint32_t threads) {
   corner_xy.clear();
   corner_xy.resize(size_t{mesh.face_count()} * 6, 0.0);
-  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve,
+  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve, threads,
                 [&](uint32_t, uint32_t f, const Vec2 xy[3]) {
                   double* out = corner_xy.data() + 6 * size_t{f};
                   for (int k = 0; k < 3; ++k) {
@@ -599,8 +660,8 @@ LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, FaceSink sink, void* context,
                             std::span<const uint32_t> seeds, std::span<const uint8_t> methods,
-                            const SolveParams& solve) {
-  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve,
+                            const SolveParams& solve, uint32_t threads) {
+  return replay(mesh, patch_of_face, patch_count, seeds, methods, solve, threads,
                 [&](uint32_t p, uint32_t f, const Vec2 xy[3]) { sink(context, p, f, xy); });
 }
 

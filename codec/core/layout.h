@@ -85,20 +85,25 @@ const char* to_string(LayoutStatus s);
 // grows from its lowest face) or one face per patch. methods: empty (every
 // patch unfolds) or one LayoutMethod per patch (format 1.2); a solve patch
 // ignores its seed and is laid out by solve_patch with `solve`.
+// threads: at most this many threads replay ranges of patches (0: one per
+// core); meshes under 2^15 faces per thread use fewer. The bits do not depend on it.
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, std::vector<double>& corner_xy,
                             std::span<const uint32_t> seeds = {}, std::span<const uint8_t> methods = {},
-                            const SolveParams& solve = {});
+                            const SolveParams& solve = {}, uint32_t threads = 0);
 
 // The same replay, handing over each face's three corner positions instead of
-// storing them: sink(context, patch, face, xy) is called for the faces of
-// patch 0 (ascending face id), then of patch 1, and so on, each patch once it
-// is fully placed. On an error some faces may already have been handed over.
+// storing them: sink(context, patch, face, xy) is called for each face of a
+// patch (ascending face id) once the patch is fully placed. On a large mesh,
+// ranges of patches replay on several threads, so the sink is called from
+// several threads at once, never twice for one face, with patches in no fixed
+// order; the positions are the same bits as one thread's. On an error some
+// faces may already have been handed over.
 using FaceSink = void (*)(void* context, uint32_t patch, uint32_t face, const Vec2 xy[3]);
 LayoutStatus layout_patches(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                             uint32_t patch_count, FaceSink sink, void* context,
                             std::span<const uint32_t> seeds = {}, std::span<const uint8_t> methods = {},
-                            const SolveParams& solve = {});
+                            const SolveParams& solve = {}, uint32_t threads = 0);
 
 // The faces of each patch in ascending order, by a counting sort: patch p's
 // faces are faces[start[p] .. start[p + 1]). Every id must be < patch_count.
