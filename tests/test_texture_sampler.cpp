@@ -48,8 +48,15 @@ TEST(TextureSampler, SrgbLoadGivesTheBitsOfSrgbToLinear) {
     shorts.setpixel(i, 0, v);
   }
   EXPECT_EQ(texels_off(shorts), 0);
-  const float odd[] = {-0.0f, -1.0f, 1.5f, 255.0f, 0.5f / 255.0f, std::numeric_limits<float>::quiet_NaN(),
-                       std::numeric_limits<float>::infinity(), 1e-30f, 0.9999999f};
+  const float odd[] = {-0.0f,
+                       -1.0f,
+                       1.5f,
+                       255.0f,
+                       0.5f / 255.0f,
+                       std::numeric_limits<float>::quiet_NaN(),
+                       std::numeric_limits<float>::infinity(),
+                       1e-30f,
+                       0.9999999f};
   OIIO::ImageBuf floats(OIIO::ImageSpec(int(std::size(odd)), 1, 1, OIIO::TypeDesc::FLOAT));
   for (int i = 0; i < int(std::size(odd)); ++i) floats.setpixel(i, 0, &odd[i]);
   EXPECT_EQ(texels_off(floats), 0);
