@@ -1,7 +1,6 @@
 #include "apps/batch_encode.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -18,6 +17,7 @@
 #include "apps/batch_progress.h"
 #include "apps/child_process.h"
 #include "apps/commands.h"
+#include "codec/core/parallel.h"
 
 namespace gltfwarp::cli {
 
@@ -138,7 +138,7 @@ int default_jobs() {
   for (std::string key; meminfo >> key;) {
     uint64_t kb = 0;
     meminfo >> kb;
-    if (key == "MemAvailable:") return std::clamp(int(kb / (1536 * 1024)), 1, cores);
+    if (key == "MemAvailable:") return std::clamp(int(kb / (1638 * 1024)), 1, cores);
     meminfo.ignore(1 << 10, '\n');
   }
   return cores;
@@ -161,26 +161,19 @@ int run_batch_encode(const BatchOptions& o, const std::vector<std::string>& work
   const int nthreads = std::max(1, std::min(o.jobs > 0 ? o.jobs : default_jobs(), int(jobs.size())));
   BatchProgress progress(jobs.size(), o.quiet);
   std::mutex report_mutex;
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t k; (k = next.fetch_add(1)) < jobs.size();) {
-      const Json r = run_job(jobs[k], o, worker);
-      {
-        std::lock_guard<std::mutex> lock(report_mutex);
-        if (report.is_open())
-          report << r.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n' << std::flush;
-      }
-      const std::string status = r["status"].get<std::string>();
-      progress.file_done(status == "ok"        ? FileStatus::ok
-                         : status == "skipped" ? FileStatus::skipped
-                                               : FileStatus::error,
-                         human_line(r));
+  run_in_parallel(jobs.size(), size_t(nthreads), [&](size_t k, size_t) {
+    const Json r = run_job(jobs[k], o, worker);
+    {
+      std::lock_guard<std::mutex> lock(report_mutex);
+      if (report.is_open())
+        report << r.dump(-1, ' ', false, Json::error_handler_t::replace) << '\n' << std::flush;
     }
-  };
-  std::vector<std::thread> pool;
-  for (int t = 1; t < nthreads; ++t) pool.emplace_back(work);
-  work();
-  for (auto& t : pool) t.join();
+    const std::string status = r["status"].get<std::string>();
+    progress.file_done(status == "ok"        ? FileStatus::ok
+                       : status == "skipped" ? FileStatus::skipped
+                                             : FileStatus::error,
+                       human_line(r));
+  });
   std::string suffix;
   if (o.shard.count > 1)
     suffix += " (shard " + std::to_string(o.shard.index) + "/" + std::to_string(o.shard.count) + " of " +

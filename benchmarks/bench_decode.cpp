@@ -5,8 +5,8 @@
 // decode_uvs, vertex split, tangents). Each reports triangles per second, so
 // the rebuild's cost reads directly against Draco's in the same process. The
 // rates are by wall time: the replay runs ranges of patches on every core
-// (layout.h), Draco on one. BM_FileReplayOneThread gives the replay's rate on
-// one thread, for the per-core figure.
+// (layout.h), Draco on one. BM_FileReplay/threads:1 gives the replay's rate
+// on one thread, for the per-core figure.
 //
 //   GLTFWARP_BENCH_MODEL=ours.glb build/gltf-warp-bench --benchmark_filter=BM_File
 //
@@ -122,20 +122,13 @@ void BM_FileReadUvmap(benchmark::State& state) {
   });
 }
 
+// The argument caps the replay's threads (0: every core, 1: the per-core rate).
 void BM_FileReplay(benchmark::State& state) {
   std::vector<double> xy;
+  const auto threads = uint32_t(state.range(0));
   run(state, [&](const Model&, const DecodedPrimitive& d) {
     benchmark::DoNotOptimize(layout_patches(d.mesh, d.map.patch_of_face, d.map.patch_count, xy, d.map.seeds,
-                                            d.map.methods, d.map.solve));
-    benchmark::DoNotOptimize(xy.data());
-  });
-}
-
-void BM_FileReplayOneThread(benchmark::State& state) {
-  std::vector<double> xy;
-  run(state, [&](const Model&, const DecodedPrimitive& d) {
-    benchmark::DoNotOptimize(layout_patches(d.mesh, d.map.patch_of_face, d.map.patch_count, xy, d.map.seeds,
-                                            d.map.methods, d.map.solve, 1));
+                                            d.map.methods, d.map.solve, threads));
     benchmark::DoNotOptimize(xy.data());
   });
 }
@@ -158,8 +151,7 @@ void BM_FileRebuildTexcoords(benchmark::State& state) {
 BENCHMARK(BM_FileDraco)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FileWeld)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FileReadUvmap)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_FileReplay)->Unit(benchmark::kMillisecond)->UseRealTime();
-BENCHMARK(BM_FileReplayOneThread)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_FileReplay)->ArgName("threads")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FileDecodeUvs)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_FileRebuildTexcoords)->Unit(benchmark::kMillisecond)->UseRealTime();
 

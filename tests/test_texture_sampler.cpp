@@ -9,8 +9,8 @@
 #include <limits>
 #include <vector>
 
+#include "codec/encode/texture/srgb.h"
 #include "codec/encode/texture/texture_sampler.h"
-#include "codec/encode/texture/warp.h"
 
 namespace gltfwarp {
 namespace {

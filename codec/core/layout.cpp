@@ -10,16 +10,15 @@
 #include "codec/core/layout.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <memory>
-#include <thread>
 #include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
+#include "codec/core/parallel.h"
 #include "codec/core/topology.h"
 
 namespace gltfwarp {
@@ -609,8 +608,7 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
   std::vector<uint32_t> poff, pfaces;
   faces_by_patch(patch_of_face, patch_count, poff, pfaces);
   const ReplayInput input{mesh, poff, pfaces, seeds, methods, solve};
-  if (max_threads == 0) max_threads = std::thread::hardware_concurrency();
-  const uint32_t threads = std::max(1u, std::min({max_threads, nf / kFacesPerThread, patch_count}));
+  const uint32_t threads = uint32_t(worker_count(std::min(nf / kFacesPerThread, patch_count), max_threads));
   if (threads == 1) return replay_range(input, 0, patch_count, emit);
   // Ranges of about equal face counts, cut at patch boundaries, a few per
   // thread and taken in turn: equal face counts are not equal work.
@@ -623,15 +621,9 @@ LayoutStatus replay(const TriMesh& mesh, std::span<const uint32_t> patch_of_face
     cut[r] = std::max(cut[r - 1], p);
   }
   std::vector<LayoutStatus> status(ranges, LayoutStatus::ok);
-  std::atomic<uint32_t> next_range{0};
-  auto work = [&] {
-    for (uint32_t r; (r = next_range.fetch_add(1)) < ranges;)
-      if (cut[r] < cut[r + 1]) status[r] = replay_range(input, cut[r], cut[r + 1], emit);
-  };
-  std::vector<std::thread> pool;
-  for (uint32_t t = 1; t < threads; ++t) pool.emplace_back(work);
-  work();
-  for (std::thread& th : pool) th.join();
+  run_in_parallel(ranges, threads, [&](size_t r, size_t) {
+    if (cut[r] < cut[r + 1]) status[r] = replay_range(input, cut[r], cut[r + 1], emit);
+  });
   // The first failing range holds the first failing patch: the error a
   // single thread reports.
   for (const LayoutStatus st : status)

@@ -2,14 +2,13 @@
 #include "codec/encode/atlas/pack.h"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cmath>
 #include <numeric>
-#include <thread>
 
 #include "codec/core/geometry2d.h"
+#include "codec/core/parallel.h"
 #include "codec/encode/atlas/congruent_fit.h"
 #include "codec/encode/atlas/texel_density.h"
 #include "format/bitstream/decode_uvs.h"
@@ -93,26 +92,6 @@ struct MaskScratch {
   std::vector<double> q;
   std::vector<uint8_t> bits, tmp;
 };
-
-size_t worker_count(size_t jobs) {
-  return std::max<size_t>(1, std::min<size_t>(jobs, std::thread::hardware_concurrency()));
-}
-
-// Calls job(i, worker) for every i < count on `workers` threads (this one
-// included); worker < workers names the thread, for per-thread scratch.
-// Jobs must write only their own results, so the outcome does not depend on
-// the thread count.
-template <class Job>
-void run_in_parallel(size_t count, size_t workers, const Job& job) {
-  std::atomic<size_t> next{0};
-  auto work = [&](size_t worker) {
-    for (size_t i; (i = next.fetch_add(1)) < count;) job(i, worker);
-  };
-  std::vector<std::thread> pool;
-  for (size_t w = 1; w < workers; ++w) pool.emplace_back(work, w);
-  work(0);
-  for (std::thread& th : pool) th.join();
-}
 
 // Chebyshev dilation of a tw x th bit image by r, rows then columns. A cell is
 // set when some set cell lies within r along the pass's axis: one sweep each

@@ -6,6 +6,7 @@
 
 #include <OpenImageIO/parallel.h>
 
+#include "codec/encode/atlas/texel_density.h"
 #include "codec/encode/texture/texel_reach.h"
 
 namespace gltfwarp {
@@ -117,7 +118,9 @@ MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler&
         in_atlas[i] = 0;
         const float* s = prims[p].source_uv.data() + 6 * size_t(f);
         const float* d = prims[p].atlas_uv.data() + 6 * size_t(f);
-        const double sa = uv_area(s) * src_texels, da = uv_area(d) * atlas_texels;
+        // Areas in UV units (a 1 x 1 image), then in texels.
+        const double sa = face_area_texels(prims[p].source_uv, f, 1, 1) * src_texels;
+        const double da = face_area_texels(prims[p].atlas_uv, f, 1, 1) * atlas_texels;
         if (!(da > 0)) continue;
         in_atlas[i] = 1;
         // Level l: a screen footprint of 2^l texels of the finer grid; each

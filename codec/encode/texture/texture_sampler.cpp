@@ -1,7 +1,6 @@
 // Viewer-like bilinear texture sampling (see texture_sampler.h).
 #include "codec/encode/texture/texture_sampler.h"
 
-#include <bit>
 #include <cstdint>
 #include <vector>
 
@@ -10,7 +9,7 @@
 #include <tiny_gltf.h>
 
 #include "codec/encode/texture/image_io.h"
-#include "codec/encode/texture/warp.h"
+#include "codec/encode/texture/srgb.h"
 
 namespace gltfwarp {
 
@@ -24,39 +23,6 @@ int wrap_texel_index(long i, int n, OIIO::ImageBuf::WrapMode w) {
 }
 
 namespace {
-
-// srgb_to_linear of the 256 floats an 8-bit channel becomes. The keys come
-// from get_pixels itself (a 256x1 8-bit image), so they are the very floats
-// load_texture_sampler sees: a texel of an 8-bit image then costs a look-up
-// instead of a powf, with the same bits. Any other value (a 16-bit or float
-// image) misses the table and is converted as before.
-struct SrgbTable {
-  float key[256], value[256];
-};
-
-const SrgbTable& srgb_table() {
-  static const SrgbTable table = [] {
-    SrgbTable t{};
-    OIIO::ImageBuf bytes(OIIO::ImageSpec(256, 1, 1, OIIO::TypeDesc::UINT8));
-    for (int i = 0; i < 256; ++i) {
-      const float v = float(i) / 255.0f;
-      bytes.setpixel(i, 0, &v);
-    }
-    bytes.get_pixels(bytes.roi(), OIIO::TypeDesc::FLOAT, t.key);
-    for (int i = 0; i < 256; ++i) t.value[i] = srgb_to_linear(t.key[i]);
-    return t;
-  }();
-  return table;
-}
-
-inline float srgb_to_linear_by_table(float v, const SrgbTable& t) {
-  const float scaled = v * 255.0f;
-  if (scaled >= 0.0f && scaled <= 255.0f) {
-    const int k = int(scaled + 0.5f);
-    if (std::bit_cast<uint32_t>(t.key[k]) == std::bit_cast<uint32_t>(v)) return t.value[k];
-  }
-  return srgb_to_linear(v);
-}
 
 OIIO::ImageBuf::WrapMode oiio_wrap(int gl) {
   if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return OIIO::ImageBuf::WrapClamp;
@@ -111,12 +77,11 @@ void load_texture_sampler(const OIIO::ImageBuf& raw, bool srgb, int gl_wrap_s, i
   // Row by row in parallel: an atlas-sized page is 16M texels.
   const int nch = spec.nchannels, colour = std::min(3, nch);
   if (srgb && px) {
-    const SrgbTable& table = srgb_table();
     OIIO::parallel_for(0, spec.height, [&](int y) {
       float* row = px + size_t(y) * spec.width * nch;
       for (int x = 0; x < spec.width; ++x)
         for (int c = 0; c < colour; ++c)
-          row[size_t(x) * nch + c] = srgb_to_linear_by_table(row[size_t(x) * nch + c], table);
+          row[size_t(x) * nch + c] = srgb_to_linear_of_pixel(row[size_t(x) * nch + c]);
     });
   }
   s.wrap_s = oiio_wrap(gl_wrap_s);

@@ -11,15 +11,15 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <random>
 #include <sstream>
-#include <thread>
 #include <vector>
 
 #include <unistd.h>
 
+#include "codec/core/parallel.h"
 #include "codec/encode/texture/atlas_fill.h"
+#include "codec/encode/texture/srgb.h"
 #include "codec/encode/texture/texture_sampler.h"
 
 namespace gltfwarp {
@@ -28,16 +28,6 @@ using OIIO::ImageBuf;
 using OIIO::ImageSpec;
 using OIIO::ROI;
 using OIIO::TypeDesc;
-
-float srgb_to_linear(float v) {
-  if (v <= 0.04045f) return v / 12.92f;
-  return std::pow((v + 0.055f) / 1.055f, 2.4f);
-}
-
-float linear_to_srgb(float v) {
-  if (v <= 0.0031308f) return 12.92f * v;
-  return 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
-}
 
 WrapMode wrap_from_gltf(int gl_enum) {
   switch (gl_enum) {
@@ -292,7 +282,7 @@ struct FitInput {
 // and the result does not depend on the thread count. Then every gutter
 // texel that no sample reached copies its nearest fitted or covered texel,
 // as the warp's own dilation did.
-void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& kind, int nthreads,
+void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& kind, size_t thread_cap,
                TexelFitReport& total) {
   const int W = in.W, H = in.H, nch = in.nch;
   const WarpOptions& o = in.options;
@@ -335,93 +325,89 @@ void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& 
   }
   const double weight_scale = weight_sum > 0 ? atlas_area / weight_sum : 0;
   const auto ws = to_imagebuf_wrap(o.wrap_s), wt = to_imagebuf_wrap(o.wrap_t);
-  std::atomic<int> next{0};
-  std::mutex merge;
-  auto worker = [&]() {
+  struct Scratch {
     std::vector<float> xy, weight, target, texels;
     std::vector<uint8_t> mask;
-    TexelFitReport mine;
-    for (;;) {
-      const int b = next++;
-      if (b >= strips) break;
-      const int y0 = b * kStrip, y1 = std::min(H, y0 + kStrip);
-      const int r0 = std::max(0, y0 - kHalo), r1 = std::min(H, y1 + kHalo), rows = r1 - r0;
-      xy.clear(), weight.clear(), target.clear();
-      float value[4];
-      for (uint32_t id : strip_tris[b]) {
-        const Tri& tr = in.tris[id];
-        if (!(face_weight[id] > 0)) continue;
-        const double area_atlas = 0.5 * std::abs((tr.x[1] - tr.x[0]) * (tr.y[2] - tr.y[0]) -
-                                                 (tr.x[2] - tr.x[0]) * (tr.y[1] - tr.y[0]));
-        const double area_source =
-            0.5 *
-            std::abs((tr.s[1] - tr.s[0]) * (tr.t[2] - tr.t[0]) - (tr.s[2] - tr.s[0]) * (tr.t[1] - tr.t[0])) *
-            in.sw * in.sh;
-        const double dense = std::max(area_atlas, area_source) * o.fit_samples_per_texel;
-        const int n = std::clamp(int(std::ceil(std::sqrt(dense))), 2, 96);
-        const float w = float(face_weight[id] * weight_scale / (double(n) * n));
-        for_each_surface_point(n, [&](double b0, double b1, double b2) {
-          const double x = b0 * tr.x[0] + b1 * tr.x[1] + b2 * tr.x[2];
-          const double y = b0 * tr.y[0] + b1 * tr.y[1] + b2 * tr.y[2];
-          if (y < r0 || y >= r1) return;
-          bilinear(in.linear, in.sw, in.sh, nch, ws, wt, b0 * tr.s[0] + b1 * tr.s[1] + b2 * tr.s[2],
-                   b0 * tr.t[0] + b1 * tr.t[1] + b2 * tr.t[2], value);
-          xy.push_back(float(x)), xy.push_back(float(y - r0));
-          // sRGB slots: the error that shows is in encoded values, so each
-          // sample weighs the squared slope of the sRGB curve at its colour
-          // (the fit is linear in linear light, the viewer's filter space).
-          float slope = 1;
-          if (in.srgb) {
-            slope = 0;
-            const int colours = std::min(nch, 3);
-            for (int c = 0; c < colours; ++c) {
-              const float v = std::max(value[c], 0.0031308f);
-              const float d = 1.055f / 2.4f * std::pow(v, 1.0f / 2.4f - 1.0f);
-              slope += d * d / float(colours);
-            }
-          }
-          weight.push_back(w * slope);
-          for (int c = 0; c < nch; ++c) target.push_back(value[c]);
-        });
-      }
-      if (weight.empty()) continue;
-      texels.resize(size_t(W) * rows * nch);
-      for (int y = r0; y < r1; ++y)
-        for (int x = 0; x < W; ++x)
-          for (int c = 0; c < nch; ++c)
-            texels[(size_t(y - r0) * W + x) * nch + c] = load(size_t(y) * W + x, c);
-      mask.assign(size_t(W) * rows, 0);
-      TexelFitReport r;
-      fit_texels(uint32_t(W), uint32_t(rows), nch, xy, weight, target, texels, o.fit, &r, mask);
-      mine.samples += r.samples, mine.fitted_texels += r.fitted_texels;
-      mine.iterations = std::max(mine.iterations, r.iterations);
-      mine.error_before += r.error_before, mine.error_after += r.error_after;
-      for (int y = y0; y < y1; ++y)
-        for (int x = 0; x < W; ++x) {
-          const size_t at = size_t(y - r0) * W + x;
-          if (!mask[at]) continue;
-          unknown[size_t(y) * W + x] = 1;
-          uint8_t* dst = pixels + (size_t(y) * W + x) * texel_bytes;
-          for (int c = 0; c < nch; ++c) {
-            float v = texels[at * nch + c];
-            if (in.srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
-            const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
-            if (in.deep)
-              reinterpret_cast<uint16_t*>(dst)[c] = uint16_t(q);
-            else
-              dst[c] = uint8_t(q);
+    TexelFitReport report;
+  };
+  std::vector<Scratch> scratch(worker_count(size_t(strips), thread_cap));
+  run_in_parallel(size_t(strips), scratch.size(), [&](size_t strip, size_t worker) {
+    auto& [xy, weight, target, texels, mask, mine] = scratch[worker];
+    const int b = int(strip);
+    const int y0 = b * kStrip, y1 = std::min(H, y0 + kStrip);
+    const int r0 = std::max(0, y0 - kHalo), r1 = std::min(H, y1 + kHalo), rows = r1 - r0;
+    xy.clear(), weight.clear(), target.clear();
+    float value[4];
+    for (uint32_t id : strip_tris[b]) {
+      const Tri& tr = in.tris[id];
+      if (!(face_weight[id] > 0)) continue;
+      const double area_atlas = 0.5 * std::abs((tr.x[1] - tr.x[0]) * (tr.y[2] - tr.y[0]) -
+                                               (tr.x[2] - tr.x[0]) * (tr.y[1] - tr.y[0]));
+      const double area_source =
+          0.5 *
+          std::abs((tr.s[1] - tr.s[0]) * (tr.t[2] - tr.t[0]) - (tr.s[2] - tr.s[0]) * (tr.t[1] - tr.t[0])) *
+          in.sw * in.sh;
+      const double dense = std::max(area_atlas, area_source) * o.fit_samples_per_texel;
+      const int n = std::clamp(int(std::ceil(std::sqrt(dense))), 2, 96);
+      const float w = float(face_weight[id] * weight_scale / (double(n) * n));
+      for_each_surface_point(n, [&](double b0, double b1, double b2) {
+        const double x = b0 * tr.x[0] + b1 * tr.x[1] + b2 * tr.x[2];
+        const double y = b0 * tr.y[0] + b1 * tr.y[1] + b2 * tr.y[2];
+        if (y < r0 || y >= r1) return;
+        bilinear(in.linear, in.sw, in.sh, nch, ws, wt, b0 * tr.s[0] + b1 * tr.s[1] + b2 * tr.s[2],
+                 b0 * tr.t[0] + b1 * tr.t[1] + b2 * tr.t[2], value);
+        xy.push_back(float(x)), xy.push_back(float(y - r0));
+        // sRGB slots: the error that shows is in encoded values, so each
+        // sample weighs the squared slope of the sRGB curve at its colour
+        // (the fit is linear in linear light, the viewer's filter space).
+        float slope = 1;
+        if (in.srgb) {
+          slope = 0;
+          const int colours = std::min(nch, 3);
+          for (int c = 0; c < colours; ++c) {
+            const float v = std::max(value[c], 0.0031308f);
+            const float d = 1.055f / 2.4f * std::pow(v, 1.0f / 2.4f - 1.0f);
+            slope += d * d / float(colours);
           }
         }
+        weight.push_back(w * slope);
+        for (int c = 0; c < nch; ++c) target.push_back(value[c]);
+      });
     }
-    std::lock_guard<std::mutex> lock(merge);
+    if (weight.empty()) return;
+    texels.resize(size_t(W) * rows * nch);
+    for (int y = r0; y < r1; ++y)
+      for (int x = 0; x < W; ++x)
+        for (int c = 0; c < nch; ++c) texels[(size_t(y - r0) * W + x) * nch + c] = load(size_t(y) * W + x, c);
+    mask.assign(size_t(W) * rows, 0);
+    TexelFitReport r;
+    fit_texels(uint32_t(W), uint32_t(rows), nch, xy, weight, target, texels, o.fit, &r, mask);
+    mine.samples += r.samples, mine.fitted_texels += r.fitted_texels;
+    mine.iterations = std::max(mine.iterations, r.iterations);
+    mine.error_before += r.error_before, mine.error_after += r.error_after;
+    for (int y = y0; y < y1; ++y)
+      for (int x = 0; x < W; ++x) {
+        const size_t at = size_t(y - r0) * W + x;
+        if (!mask[at]) continue;
+        unknown[size_t(y) * W + x] = 1;
+        uint8_t* dst = pixels + (size_t(y) * W + x) * texel_bytes;
+        for (int c = 0; c < nch; ++c) {
+          float v = texels[at * nch + c];
+          if (in.srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
+          const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
+          if (in.deep)
+            reinterpret_cast<uint16_t*>(dst)[c] = uint16_t(q);
+          else
+            dst[c] = uint8_t(q);
+        }
+      }
+  });
+  for (const Scratch& sc : scratch) {
+    const TexelFitReport& mine = sc.report;
     total.samples += mine.samples, total.fitted_texels += mine.fitted_texels;
     total.iterations = std::max(total.iterations, mine.iterations);
     total.error_before += mine.error_before, total.error_after += mine.error_after;
-  };
-  std::vector<std::thread> pool;
-  for (int i = 1; i < std::min(nthreads, strips); ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
+  }
 
   // Gutter texels the fit did not reach follow their nearest kept texel.
   const int g = int(o.gutter);
@@ -489,8 +475,6 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     ImageBuf stage(ImageSpec(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF));
     std::vector<float> rows;
     const int chunk = 64;
-    float lut[256];
-    for (int i = 0; i < 256; ++i) lut[i] = srgb_to_linear(float(i) / 255.0f);
     for (int y0 = sspec.y; y0 < sspec.y + sh; y0 += chunk) {
       const int y1 = std::min(sspec.y + sh, y0 + chunk);
       const ROI roi(sspec.x, sspec.x + sw, y0, y1, 0, 1, 0, nch);
@@ -500,11 +484,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       if (srgb) {
         for (size_t i = 0; i < rows.size(); ++i) {
           if (!is_color_channel(int(i % nch), nch)) continue;
-          const float v = rows[i];
-          const float k = v * 255.0f;
-          const int ki = int(std::lround(k));
-          rows[i] =
-              (!deep && std::abs(k - float(ki)) < 1e-3f && ki >= 0 && ki < 256) ? lut[ki] : srgb_to_linear(v);
+          rows[i] = srgb_to_linear_of_pixel(rows[i]);
         }
       }
       const ROI droi(0, sw, y0 - sspec.y, y1 - sspec.y, 0, 1, 0, nch);
@@ -596,12 +576,22 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       return fail(WarpStatus::texture_error, "cannot open the staged texture: " + e);
     }
   }
-  std::atomic<int> next_band{0};
-  std::mutex merge;
   std::vector<double> sum(nch, 0.0);
   uint64_t covered = 0, gutter = 0, lookups = 0;
 
-  auto worker = [&]() {
+  // Per worker: sums merged after the join, and buffers reused band to band.
+  struct Scratch {
+    std::vector<double> sum;
+    uint64_t covered = 0, gutter = 0, lookups = 0;
+    std::vector<int32_t> owner, near_col;
+    std::vector<float> dist;
+    std::vector<uint8_t> row_out;
+  };
+  const size_t thread_cap = options.threads > 0 ? size_t(options.threads) : 0;  // 0: every core
+  std::vector<Scratch> scratch(worker_count(size_t(bands), thread_cap));
+  for (Scratch& sc : scratch) sc.sum.assign(nch, 0.0), sc.row_out.resize(size_t(W) * nch * (deep ? 2 : 1));
+  run_in_parallel(size_t(bands), scratch.size(), [&](size_t band, size_t worker) {
+    auto& [my_sum, my_cov, my_gut, my_look, owner, near_col, dist, row_out] = scratch[worker];
     OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
     OIIO::TextureSystem::TextureHandle* th = ts->get_texture_handle(tex_name, pt);
     const CubicSampler cubic(linear, sw, sh, nch, options.wrap_s, options.wrap_t);
@@ -611,160 +601,146 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     opt.anisotropic = std::max(1, int(options.anisotropy));
     opt.interpmode =
         options.bicubic ? OIIO::TextureOpt::InterpSmartBicubic : OIIO::TextureOpt::InterpBilinear;
-    std::vector<double> my_sum(nch, 0.0);
-    uint64_t my_cov = 0, my_gut = 0, my_look = 0;
-    std::vector<int32_t> owner;
-    std::vector<float> dist;
-    std::vector<int32_t> near_col;
-    std::vector<uint8_t> row_out(size_t(W) * nch * (deep ? 2 : 1));
     float value[4];
-    for (;;) {
-      const int b = next_band++;
-      if (b >= bands) break;
-      const int y0 = b * band_rows, y1 = std::min(H, y0 + band_rows);
-      const int e0 = std::max(0, y0 - g), e1 = std::min(H, y1 + g);
-      const int erows = e1 - e0;
-      owner.assign(size_t(W) * erows, -1);
-      dist.assign(size_t(W) * erows, 1e30f);
-      // Conservative raster: texels whose square meets a triangle; the
-      // nearest triangle (distance from the texel centre) owns the texel.
-      for (uint32_t id : band_tris[b]) {
-        const Tri& tr = tris[id];
-        double px[3] = {tr.x[0], tr.x[1], tr.x[2]}, py[3] = {tr.y[0], tr.y[1], tr.y[2]};
-        if ((px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]) < 0)
-          std::swap(px[1], px[2]), std::swap(py[1], py[2]);
-        const int i0 = std::max(0, int(std::ceil(std::min({px[0], px[1], px[2]}))) - 1);
-        const int i1 = std::min(W - 1, int(std::floor(std::max({px[0], px[1], px[2]}))));
-        const int j0 = std::max(e0, int(std::ceil(std::min({py[0], py[1], py[2]}))) - 1);
-        const int j1 = std::min(e1 - 1, int(std::floor(std::max({py[0], py[1], py[2]}))));
-        double ex[3], ey[3], slack[3];
-        for (int k = 0; k < 3; ++k) {
-          ex[k] = px[(k + 1) % 3] - px[k];
-          ey[k] = py[(k + 1) % 3] - py[k];
-          slack[k] = 0.5 * (std::abs(ex[k]) + std::abs(ey[k]));
-        }
-        for (int j = j0; j <= j1; ++j) {
-          for (int i = i0; i <= i1; ++i) {
-            const double x = i + 0.5, y = j + 0.5;
-            bool touch = true, inside = true;
-            for (int k = 0; k < 3; ++k) {
-              const double e = ex[k] * (y - py[k]) - ey[k] * (x - px[k]);
-              if (e + slack[k] < 0) touch = false;
-              if (e < 0) inside = false;
-            }
-            if (!touch) continue;
-            float d = 0;
-            if (!inside) {
-              double bc[3];
-              closest_barycentric(tr, x, y, bc);
-              const double cx = bc[0] * tr.x[0] + bc[1] * tr.x[1] + bc[2] * tr.x[2];
-              const double cy = bc[0] * tr.y[0] + bc[1] * tr.y[1] + bc[2] * tr.y[2];
-              d = float((cx - x) * (cx - x) + (cy - y) * (cy - y));
-            }
-            const size_t at = size_t(j - e0) * W + i;
-            if (d < dist[at]) dist[at] = d, owner[at] = int32_t(id);
-          }
-        }
+    const int b = int(band);
+    const int y0 = b * band_rows, y1 = std::min(H, y0 + band_rows);
+    const int e0 = std::max(0, y0 - g), e1 = std::min(H, y1 + g);
+    const int erows = e1 - e0;
+    owner.assign(size_t(W) * erows, -1);
+    dist.assign(size_t(W) * erows, 1e30f);
+    // Conservative raster: texels whose square meets a triangle; the
+    // nearest triangle (distance from the texel centre) owns the texel.
+    for (uint32_t id : band_tris[b]) {
+      const Tri& tr = tris[id];
+      double px[3] = {tr.x[0], tr.x[1], tr.x[2]}, py[3] = {tr.y[0], tr.y[1], tr.y[2]};
+      if ((px[1] - px[0]) * (py[2] - py[0]) - (py[1] - py[0]) * (px[2] - px[0]) < 0)
+        std::swap(px[1], px[2]), std::swap(py[1], py[2]);
+      const int i0 = std::max(0, int(std::ceil(std::min({px[0], px[1], px[2]}))) - 1);
+      const int i1 = std::min(W - 1, int(std::floor(std::max({px[0], px[1], px[2]}))));
+      const int j0 = std::max(e0, int(std::ceil(std::min({py[0], py[1], py[2]}))) - 1);
+      const int j1 = std::min(e1 - 1, int(std::floor(std::max({py[0], py[1], py[2]}))));
+      double ex[3], ey[3], slack[3];
+      for (int k = 0; k < 3; ++k) {
+        ex[k] = px[(k + 1) % 3] - px[k];
+        ey[k] = py[(k + 1) % 3] - py[k];
+        slack[k] = 0.5 * (std::abs(ex[k]) + std::abs(ey[k]));
       }
-      // Nearest owned column within g in each row (two scans).
-      near_col.assign(size_t(W) * erows, -1);
-      for (int r = 0; r < erows; ++r) {
-        const int32_t* o = &owner[size_t(r) * W];
-        int32_t* nc = &near_col[size_t(r) * W];
-        int last = -1000000;
-        for (int i = 0; i < W; ++i) {
-          if (o[i] >= 0) last = i;
-          if (i - last <= g) nc[i] = last;
+      for (int j = j0; j <= j1; ++j) {
+        for (int i = i0; i <= i1; ++i) {
+          const double x = i + 0.5, y = j + 0.5;
+          bool touch = true, inside = true;
+          for (int k = 0; k < 3; ++k) {
+            const double e = ex[k] * (y - py[k]) - ey[k] * (x - px[k]);
+            if (e + slack[k] < 0) touch = false;
+            if (e < 0) inside = false;
+          }
+          if (!touch) continue;
+          float d = 0;
+          if (!inside) {
+            double bc[3];
+            closest_barycentric(tr, x, y, bc);
+            const double cx = bc[0] * tr.x[0] + bc[1] * tr.x[1] + bc[2] * tr.x[2];
+            const double cy = bc[0] * tr.y[0] + bc[1] * tr.y[1] + bc[2] * tr.y[2];
+            d = float((cx - x) * (cx - x) + (cy - y) * (cy - y));
+          }
+          const size_t at = size_t(j - e0) * W + i;
+          if (d < dist[at]) dist[at] = d, owner[at] = int32_t(id);
         }
-        last = 1000000;
-        for (int i = W - 1; i >= 0; --i) {
-          if (o[i] >= 0) last = i;
-          if (last - i <= g && (nc[i] < 0 || last - i < i - nc[i])) nc[i] = last;
-        }
-      }
-      for (int y = y0; y < y1; ++y) {
-        for (int x = 0; x < W; ++x) {
-          // The texel whose sample this texel takes: itself or its nearest owned one.
-          int ox = -1, oy = -1;
-          if (owner[size_t(y - e0) * W + x] >= 0) {
-            ox = x, oy = y;
-          } else {
-            long best = 1L << 40;
-            for (int yy = std::max(e0, y - g); yy < std::min(e1, y + g + 1); ++yy) {
-              const int c = near_col[size_t(yy - e0) * W + x];
-              if (c < 0) continue;
-              const long d = long(yy - y) * (yy - y) + long(c - x) * (c - x);
-              if (d < best) best = d, ox = c, oy = yy;
-            }
-          }
-          uint8_t* dst8 = &row_out[size_t(x) * nch * (deep ? 2 : 1)];
-          if (ox < 0) {
-            empty[size_t(y) * W + x] = 1;
-            continue;
-          }
-          const Tri& tr = tris[owner[size_t(oy - e0) * W + ox]];
-          double bc[3];
-          closest_barycentric(tr, ox + 0.5, oy + 0.5, bc);
-          const float s = float(bc[0] * tr.s[0] + bc[1] * tr.s[1] + bc[2] * tr.s[2]);
-          const float t = float(bc[0] * tr.t[0] + bc[1] * tr.t[1] + bc[2] * tr.t[2]);
-          value[0] = value[1] = value[2] = 0, value[3] = 1;
-          if (keep_linear && tr.magnifies)
-            cubic.sample(s, t, value);
-          else
-            ts->texture(th, pt, opt, s, t, tr.dsdx, tr.dtdx, tr.dsdy, tr.dtdy, nch, value);
-          ++my_look;
-          if (normal_map) {
-            const WarpPrimitive& p = prims[tr.prim];
-            Vec3 To, Bo, No, Tn, Bn, Nn;
-            frame_at(p, p.old_tangents, tr.face, bc, To, Bo, No);
-            frame_at(p, p.new_tangents, tr.face, bc, Tn, Bn, Nn);
-            const Vec3 n{2.0 * value[0] - 1, 2.0 * value[1] - 1, 2.0 * value[2] - 1};
-            const Vec3 obj = n.x * To + n.y * Bo + n.z * No;
-            const Vec3 nn = solve_frame(Tn, Bn, Nn, obj);
-            value[0] = float(nn.x * 0.5 + 0.5);
-            value[1] = float(nn.y * 0.5 + 0.5);
-            value[2] = float(nn.z * 0.5 + 0.5);
-          }
-          const bool is_cov = ox == x && oy == y;
-          for (int c = 0; c < nch; ++c) {
-            float v = value[c];
-            if (srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
-            const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
-            if (deep)
-              reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
-            else
-              dst8[c] = uint8_t(q);
-            if (is_cov) my_sum[c] += q;
-          }
-          kind[size_t(y) * W + x] = is_cov ? 1 : 2;
-          if (is_cov)
-            ++my_cov;
-          else
-            ++my_gut;
-        }
-        // Empty texels get written later (mean colour); copy the row now.
-        uint8_t* base = static_cast<uint8_t*>(out.localpixels());
-        const size_t row_bytes = size_t(W) * nch * (deep ? 2 : 1);
-        std::copy(row_out.begin(), row_out.end(), base + size_t(y) * row_bytes);
       }
     }
-    std::lock_guard<std::mutex> lock(merge);
-    for (int c = 0; c < nch; ++c) sum[c] += my_sum[c];
-    covered += my_cov, gutter += my_gut, lookups += my_look;
-  };
-  const int nthreads =
-      options.threads > 0 ? options.threads : std::max(1, int(std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int i = 1; i < std::min(nthreads, bands); ++i) pool.emplace_back(worker);
-  worker();
-  for (std::thread& th : pool) th.join();
+    // Nearest owned column within g in each row (two scans).
+    near_col.assign(size_t(W) * erows, -1);
+    for (int r = 0; r < erows; ++r) {
+      const int32_t* o = &owner[size_t(r) * W];
+      int32_t* nc = &near_col[size_t(r) * W];
+      int last = -1000000;
+      for (int i = 0; i < W; ++i) {
+        if (o[i] >= 0) last = i;
+        if (i - last <= g) nc[i] = last;
+      }
+      last = 1000000;
+      for (int i = W - 1; i >= 0; --i) {
+        if (o[i] >= 0) last = i;
+        if (last - i <= g && (nc[i] < 0 || last - i < i - nc[i])) nc[i] = last;
+      }
+    }
+    for (int y = y0; y < y1; ++y) {
+      for (int x = 0; x < W; ++x) {
+        // The texel whose sample this texel takes: itself or its nearest owned one.
+        int ox = -1, oy = -1;
+        if (owner[size_t(y - e0) * W + x] >= 0) {
+          ox = x, oy = y;
+        } else {
+          long best = 1L << 40;
+          for (int yy = std::max(e0, y - g); yy < std::min(e1, y + g + 1); ++yy) {
+            const int c = near_col[size_t(yy - e0) * W + x];
+            if (c < 0) continue;
+            const long d = long(yy - y) * (yy - y) + long(c - x) * (c - x);
+            if (d < best) best = d, ox = c, oy = yy;
+          }
+        }
+        uint8_t* dst8 = &row_out[size_t(x) * nch * (deep ? 2 : 1)];
+        if (ox < 0) {
+          empty[size_t(y) * W + x] = 1;
+          continue;
+        }
+        const Tri& tr = tris[owner[size_t(oy - e0) * W + ox]];
+        double bc[3];
+        closest_barycentric(tr, ox + 0.5, oy + 0.5, bc);
+        const float s = float(bc[0] * tr.s[0] + bc[1] * tr.s[1] + bc[2] * tr.s[2]);
+        const float t = float(bc[0] * tr.t[0] + bc[1] * tr.t[1] + bc[2] * tr.t[2]);
+        value[0] = value[1] = value[2] = 0, value[3] = 1;
+        if (keep_linear && tr.magnifies)
+          cubic.sample(s, t, value);
+        else
+          ts->texture(th, pt, opt, s, t, tr.dsdx, tr.dtdx, tr.dsdy, tr.dtdy, nch, value);
+        ++my_look;
+        if (normal_map) {
+          const WarpPrimitive& p = prims[tr.prim];
+          Vec3 To, Bo, No, Tn, Bn, Nn;
+          frame_at(p, p.old_tangents, tr.face, bc, To, Bo, No);
+          frame_at(p, p.new_tangents, tr.face, bc, Tn, Bn, Nn);
+          const Vec3 n{2.0 * value[0] - 1, 2.0 * value[1] - 1, 2.0 * value[2] - 1};
+          const Vec3 obj = n.x * To + n.y * Bo + n.z * No;
+          const Vec3 nn = solve_frame(Tn, Bn, Nn, obj);
+          value[0] = float(nn.x * 0.5 + 0.5);
+          value[1] = float(nn.y * 0.5 + 0.5);
+          value[2] = float(nn.z * 0.5 + 0.5);
+        }
+        const bool is_cov = ox == x && oy == y;
+        for (int c = 0; c < nch; ++c) {
+          float v = value[c];
+          if (srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
+          const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
+          if (deep)
+            reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
+          else
+            dst8[c] = uint8_t(q);
+          if (is_cov) my_sum[c] += q;
+        }
+        kind[size_t(y) * W + x] = is_cov ? 1 : 2;
+        if (is_cov)
+          ++my_cov;
+        else
+          ++my_gut;
+      }
+      // Empty texels get written later (mean colour); copy the row now.
+      uint8_t* base = static_cast<uint8_t*>(out.localpixels());
+      const size_t row_bytes = size_t(W) * nch * (deep ? 2 : 1);
+      std::copy(row_out.begin(), row_out.end(), base + size_t(y) * row_bytes);
+    }
+  });
+  for (const Scratch& sc : scratch) {
+    for (int c = 0; c < nch; ++c) sum[c] += sc.sum[c];
+    covered += sc.covered, gutter += sc.gutter, lookups += sc.lookups;
+  }
   OIIO::TextureSystem::destroy(ts);
 
   // 3b. Least-squares texels, then the gutter again from them.
   if (options.least_squares && keep_linear && !normal_map) {
     const auto f0 = std::chrono::steady_clock::now();
     FitInput in{tris, prims, linear, sw, sh, nch, W, H, srgb, deep, options};
-    fit_atlas(in, static_cast<uint8_t*>(out.localpixels()), kind, nthreads, report.fit);
+    fit_atlas(in, static_cast<uint8_t*>(out.localpixels()), kind, thread_cap, report.fit);
     report.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
   }
 

@@ -124,8 +124,4 @@ WarpStatus warp_texture(const OIIO::ImageBuf& source, std::span<const WarpPrimit
                         uint32_t atlas_width, uint32_t atlas_height, const WarpOptions& options,
                         OIIO::ImageBuf& out, WarpReport* report = nullptr);
 
-// sRGB transfer functions (IEC 61966-2-1), exposed for tests.
-float srgb_to_linear(float v);
-float linear_to_srgb(float v);
-
 }  // namespace gltfwarp

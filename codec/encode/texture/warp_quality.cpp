@@ -7,17 +7,14 @@
 
 #include <OpenImageIO/parallel.h>
 
+#include "codec/encode/atlas/texel_density.h"
+
 namespace gltfwarp {
 
 double SurfaceError::psnr() const {
   if (values == 0) return 0;
   const double mse = squared / double(values);
   return mse > 0 ? std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 99.0;
-}
-
-double uv_area(const float* u) {
-  return 0.5 * std::abs((double(u[2]) - u[0]) * (double(u[5]) - u[1]) -
-                        (double(u[4]) - u[0]) * (double(u[3]) - u[1]));
 }
 
 FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texels, uint64_t max_points) {
@@ -28,7 +25,8 @@ FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texel
     const size_t nf = std::min(prims[p].source_uv.size(), prims[p].atlas_uv.size()) / 6;
     out.side[p].resize(nf);
     for (size_t f = 0; f < nf; ++f) {
-      const int n = surface_points_per_side(uv_area(&prims[p].source_uv[6 * f]) * source_texels);
+      const int n =
+          surface_points_per_side(face_area_texels(prims[p].source_uv, uint32_t(f), 1, 1) * source_texels);
       out.side[p][f] = n;
       total += uint64_t(n) * n;
     }

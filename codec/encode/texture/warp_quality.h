@@ -53,7 +53,4 @@ struct FaceSampling {
 };
 FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texels, uint64_t max_points);
 
-// Area of a triangle of 3 UV pairs, in UV units squared.
-double uv_area(const float* uv);
-
 }  // namespace gltfwarp
