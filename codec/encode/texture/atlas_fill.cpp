@@ -5,6 +5,8 @@
 #include <cmath>
 #include <vector>
 
+#include <OpenImageIO/parallel.h>
+
 namespace gltfwarp {
 namespace {
 
@@ -28,7 +30,9 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
     return deep ? float(reinterpret_cast<const uint16_t*>(pixels)[i]) : float(pixels[i]);
   };
   // Pull: level 1 from the pixels, each further level from the one below,
-  // down to a single texel. Each parent averages its kept children.
+  // down to a single texel. Each parent averages its kept children. Rows of
+  // a level are independent (each writes its own texels), so they run on
+  // every core: a 4096² source's reference fill is 16M texels.
   std::vector<Level> levels;
   for (int w = width, h = height; w > 1 || h > 1;) {
     Level next;
@@ -37,7 +41,7 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
     next.value.assign(size_t(next.w) * next.h * nch, 0.0f);
     next.known.assign(size_t(next.w) * next.h, 0);
     const Level* below = levels.empty() ? nullptr : &levels.back();
-    for (int y = 0; y < next.h; ++y)
+    OIIO::parallel_for(0, next.h, [&](int y) {
       for (int x = 0; x < next.w; ++x) {
         float sum[8] = {};
         int n = 0;
@@ -55,6 +59,7 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
         next.known[pi] = 1;
         for (int c = 0; c < nch; ++c) next.value[pi * nch + c] = sum[c] / float(n);
       }
+    });
     w = next.w;
     h = next.h;
     levels.push_back(std::move(next));
@@ -79,18 +84,19 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
   for (size_t k = levels.size() - 1; k-- > 0;) {
     Level& lv = levels[k];
     const Level& up = levels[k + 1];
-    for (int y = 0; y < lv.h; ++y)
+    OIIO::parallel_for(0, lv.h, [&](int y) {
       for (int x = 0; x < lv.w; ++x) {
         const size_t i = size_t(y) * lv.w + x;
         if (lv.known[i]) continue;
         interpolate(up, (x + 0.5) / 2.0 - 0.5, (y + 0.5) / 2.0 - 0.5, &lv.value[i * nch]);
         lv.known[i] = 1;
       }
+    });
   }
   const Level& up = levels.front();
   const double top = deep ? 65535.0 : 255.0;
-  float v[8];
-  for (int y = 0; y < height; ++y)
+  OIIO::parallel_for(0, height, [&](int y) {
+    float v[8];
     for (int x = 0; x < width; ++x) {
       const size_t i = size_t(y) * width + x;
       if (!empty[i]) continue;
@@ -103,6 +109,7 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
           pixels[i * nch + c] = uint8_t(q);
       }
     }
+  });
 }
 
 }  // namespace gltfwarp

@@ -20,15 +20,22 @@ void MipQuality::add(const MipQuality& o) {
   }
 }
 
-std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels) {
-  std::vector<TextureSampler> chain{s};
-  if (!s.ok) return chain;
+std::vector<TextureSampler> mip_chain(TextureSampler s, int levels) {
+  std::vector<TextureSampler> chain;
+  chain.reserve(size_t(std::max(levels, 1)));
+  chain.push_back(std::move(s));
+  if (!chain[0].ok) return chain;
   while (int(chain.size()) < levels) {
     const TextureSampler& up = chain.back();
     const int w = up.pixels.spec().width, h = up.pixels.spec().height, nch = up.channels();
     if (w == 1 && h == 1) break;
     const int dw = std::max(1, w / 2), dh = std::max(1, h / 2);
-    TextureSampler down = up;
+    // The level's settings, not its texels (copying those would copy the level).
+    TextureSampler down;
+    down.wrap_s = up.wrap_s, down.wrap_t = up.wrap_t;
+    down.srgb = up.srgb;
+    down.transform = up.transform;
+    down.ok = up.ok;
     down.pixels.reset(OIIO::ImageSpec(dw, dh, nch, OIIO::TypeDesc::FLOAT));
     const float* src = static_cast<const float*>(up.pixels.localpixels());
     float* dst = static_cast<float*>(down.pixels.localpixels());

@@ -41,9 +41,10 @@ struct MipQuality {
   void add(const MipQuality& o);  // means only; worst regions take the lower
 };
 
-// The MIP chain of a sampler, level 0 first (a copy of it), down to 1x1 or
-// `levels` levels: box-filtered 2x2 means of the linear texels.
-std::vector<TextureSampler> mip_chain(const TextureSampler& s, int levels);
+// The MIP chain of a sampler, level 0 first (`s` itself: move a temporary
+// in, as a 4096² float level 0 is 256 MB), down to 1x1 or `levels` levels:
+// box-filtered 2x2 means of the linear texels.
+std::vector<TextureSampler> mip_chain(TextureSampler s, int levels);
 
 MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler& atlas,
                              std::span<const SurfaceUvs> prims, const MipQualityOptions& options = {});
