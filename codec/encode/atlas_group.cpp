@@ -222,8 +222,8 @@ constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
 // half a dB of margin), and while the images are already no larger than
 // their sources, above the quality goal too (or where it is, if below). A
 // round's result is kept only if its own measurement holds the floor and its
-// images are smaller; otherwise the previous atlas is rebuilt and the search
-// stops.
+// images are smaller; otherwise the previous atlas stays (the plan's UVs
+// are decoded back from its bitstreams, follow_streams) and the search stops.
 Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                              const EncodeOptions& options, SourceImages& sources, double factor,
                              double min_psnr, const QualityAim& aim, GroupAtlas& built) {
@@ -291,12 +291,11 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
       plan_follows_built = true;
       continue;
     }
-    // Back to the last kept atlas (the UVs in the plan follow the last build).
-    return build_group_atlas(model, plan, group, options, sources, factor, bias, built);
+    // Back to the last kept atlas: the plan's UVs follow the last build.
+    return follow_streams(plan, group, built);
   }
   // The last build may have been a measurement: the plan's UVs must be built's.
-  return plan_follows_built ? Error()
-                            : build_group_atlas(model, plan, group, options, sources, factor, bias, built);
+  return plan_follows_built ? Error() : follow_streams(plan, group, built);
 }
 
 // The group's atlas at the first density factor, then at each later one

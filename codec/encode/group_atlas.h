@@ -141,6 +141,12 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
 Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
                     GroupAtlas& out);
 
+// Each member's corner_uv decoded again from `built`'s bitstreams: the plan
+// as build_group_atlas(built) left it, after trial atlases (measurements,
+// rejected rounds) wrote theirs. A build is a pure function of the plan and
+// its arguments apart from corner_uv, so this stands in for rebuilding.
+Error follow_streams(ImplicitPlan& plan, const AtlasGroup& group, const GroupAtlas& built);
+
 // ---- The image stages (group_images.cpp) ----
 
 // One TEXCOORD_0 slot source of the group's materials, warped once per page.

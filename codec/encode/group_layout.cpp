@@ -221,4 +221,15 @@ Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOpt
   return {};
 }
 
+Error follow_streams(ImplicitPlan& plan, const AtlasGroup& group, const GroupAtlas& built) {
+  if (built.bitstreams.size() != group.members.size())
+    return {ErrorCode::internal, "the atlas holds no bitstream for every member"};
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    auto& ip = plan.prims[group.members[k]];
+    if (const UvStatus st = decode_uvs(ip.tri, built.bitstreams[k], ip.corner_uv); st != UvStatus::ok)
+      return {ErrorCode::internal, std::string("the UV bitstream does not decode: ") + to_string(st)};
+  }
+  return {};
+}
+
 }  // namespace gltfwarp
