@@ -306,12 +306,23 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
   const double reach = aim.boost ? std::max(min_psnr, aim.goal) : min_psnr;
   // Below the floor the atlas is tried again or given up, never written.
   const double code_floor = options.quality_fallback ? min_psnr : 0;
-  for (double factor : factors) {
-    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, {}, built, code_floor);
+  for (size_t i = 0; i < factors.size(); ++i) {
+    // Below the reach a later factor replaces this atlas, unless it was
+    // capped: its lossless pages are coded only if it stays (level-9 PNG of
+    // the truck's boosted pages is about a second each).
+    const bool last = i + 1 == factors.size();
+    const double floor_here = !last && min_psnr > 0 ? std::max(code_floor, reach) : code_floor;
+    if (Error e = build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, floor_here);
         e.failed())
       return e;
-    factor_used = factor;
-    if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= reach || built.capped) break;
+    factor_used = factors[i];
+    if (!(min_psnr > 0) || built.error.values == 0 || built.floor_psnr() >= reach || built.capped) {
+      // Stopped on an uncoded atlas that the caller may write: build it
+      // again with its pages coded (the same atlas: a build is deterministic).
+      if (!built.coded && !(built.floor_psnr() < code_floor))
+        return build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, code_floor);
+      break;
+    }
   }
   return {};
 }
