@@ -332,7 +332,15 @@ void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& 
   };
   std::vector<Scratch> scratch(worker_count(size_t(strips), thread_cap));
   run_in_parallel(size_t(strips), scratch.size(), [&](size_t strip, size_t worker) {
-    auto& [xy, weight, target, texels, mask, mine] = scratch[worker];
+    // Named references, not a structured binding: lambdas below capture them
+    // (clang before 16 cannot capture a binding).
+    Scratch& sc = scratch[worker];
+    std::vector<float>& xy = sc.xy;
+    std::vector<float>& weight = sc.weight;
+    std::vector<float>& target = sc.target;
+    std::vector<float>& texels = sc.texels;
+    std::vector<uint8_t>& mask = sc.mask;
+    TexelFitReport& mine = sc.report;
     const int b = int(strip);
     const int y0 = b * kStrip, y1 = std::min(H, y0 + kStrip);
     const int r0 = std::max(0, y0 - kHalo), r1 = std::min(H, y1 + kHalo), rows = r1 - r0;
@@ -591,7 +599,15 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   std::vector<Scratch> scratch(worker_count(size_t(bands), thread_cap));
   for (Scratch& sc : scratch) sc.sum.assign(nch, 0.0), sc.row_out.resize(size_t(W) * nch * (deep ? 2 : 1));
   run_in_parallel(size_t(bands), scratch.size(), [&](size_t band, size_t worker) {
-    auto& [my_sum, my_cov, my_gut, my_look, owner, near_col, dist, row_out] = scratch[worker];
+    Scratch& sc = scratch[worker];
+    std::vector<double>& my_sum = sc.sum;
+    uint64_t& my_cov = sc.covered;
+    uint64_t& my_gut = sc.gutter;
+    uint64_t& my_look = sc.lookups;
+    std::vector<int32_t>& owner = sc.owner;
+    std::vector<int32_t>& near_col = sc.near_col;
+    std::vector<float>& dist = sc.dist;
+    std::vector<uint8_t>& row_out = sc.row_out;
     OIIO::TextureSystem::Perthread* pt = ts->get_perthread_info();
     OIIO::TextureSystem::TextureHandle* th = ts->get_texture_handle(tex_name, pt);
     const CubicSampler cubic(linear, sw, sh, nch, options.wrap_s, options.wrap_t);
