@@ -195,18 +195,16 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
 Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOptions& options,
                     GroupAtlas& out) {
   for (size_t k = 0; k < group.members.size(); ++k) {
-    auto& ip = plan.prims[group.members[k]];
+    const auto& ip = plan.prims[group.members[k]];
     UvMap& map = out.maps[k];
     map.tau = static_cast<float>(options.tau);
     std::vector<uint8_t> bytes;
-    UvStatus st = write_uvmap(map, ip.tri, bytes);
-    if (st != UvStatus::ok)
+    if (const UvStatus st = write_uvmap(map, ip.tri, bytes); st != UvStatus::ok)
       return {ErrorCode::internal, std::string("cannot write the UV bitstream: ") + to_string(st)};
-    st = decode_uvs(ip.tri, bytes, ip.corner_uv);
-    if (st != UvStatus::ok)
-      return {ErrorCode::internal, std::string("the UV bitstream does not decode: ") + to_string(st)};
     out.bitstreams.push_back(std::move(bytes));
   }
+  // The UVs exactly as the decoder will rebuild them.
+  if (Error e = follow_streams(plan, group, out); e.failed()) return e;
   out.patch_texels.assign(out.patch_count, 0.0);
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
