@@ -314,6 +314,38 @@ TEST(Pages, OnePageShrinksTheDensity) {
   EXPECT_LE(std::max(report.atlases[0].width, report.atlases[0].height), 256u);
 }
 
+// The parts of a cut are partitioned side by side ahead of the encoder's
+// loop: the file is the one partitioning them one after another gives,
+// byte for byte, with Draco and with raw geometry.
+TEST(Pages, PrefetchedPartitionsGiveTheSameFile) {
+  struct Case {
+    const char* shape;
+    int faces, texture;
+    uint32_t max_size;
+    bool raw;
+  };
+  for (const Case& c : {Case{"sphere", 3000, 512, 256, false}, Case{"torus", 2000, 512, 128, true}}) {
+    std::vector<uint8_t> bytes[2];
+    for (const bool prefetch : {false, true}) {
+      tinygltf::Model model;
+      ASSERT_EQ(make_sample_model(c.shape, c.faces, c.texture, model), "");
+      EncodeOptions o;
+      o.max_atlas_size = c.max_size;
+      o.quality_fallback = false;
+      o.raw_geometry = c.raw;
+      o.prefetch_partitions = prefetch;
+      EncodeReport report;
+      ASSERT_EQ(encode_model(model, o, report).message, "");
+      EXPECT_GT(model.meshes[0].primitives.size(), 1u) << c.shape << ": not cut";
+      const std::string path = scratch_dir("pages-prefetch") + (prefetch ? "/on.glb" : "/off.glb");
+      ASSERT_EQ(write_gltf(model, path), "");
+      std::ifstream in(path, std::ios::binary);
+      bytes[prefetch].assign(std::istreambuf_iterator<char>(in), {});
+    }
+    EXPECT_EQ(bytes[0], bytes[1]) << c.shape << (c.raw ? " raw" : "");
+  }
+}
+
 // A cut whose parts all keep explicit UVs (here: a floor no atlas reaches)
 // is undone: the file is the one a single page would have given, byte for
 // byte, and the report lists the primitive once.

@@ -125,6 +125,7 @@ Error encode_model(tinygltf::Model& model, const EncodeOptions& options, EncodeR
       report.primitives.push_back(pr);
     }
   }
+  plan.prefetched = {};  // what no part took (a part that fell back or was cut again)
   if (options.implicit_uvs) {
     if (Error e = finish_implicit_uvs(model, plan, options, replaced, report); e.failed()) return e;
     if (Error e = undo_fallen_back_cuts(model, plan, options, replaced, report); e.failed()) return e;

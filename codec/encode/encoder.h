@@ -24,6 +24,10 @@ struct EncodeOptions {
   bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
   bool mixed_layout = false;      // --layout mixed: also merge patches laid out by solve (format 1.2)
   bool report_greedy = false;     // also run greedy on each primitive and report its figures
+  // Partition the parts of a cut primitive side by side, ahead of the loop
+  // that commits them one by one (implicit_uv_encoder.cpp). Off: one after
+  // another, the same bytes, slower; tests compare the two.
+  bool prefetch_partitions = true;
   // Texel reuse (format 1.3): faces that show the same source texels through
   // congruent triangles (mirrored halves, repeats) get copy patches that land
   // on their originals' texels, so the atlas holds them once (twin_partition.h).

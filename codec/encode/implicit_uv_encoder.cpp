@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numeric>
 #include <set>
 
 #include "codec/core/corner_match.h"
+#include "codec/core/parallel.h"
 #include "codec/decode/embedding_mesh.h"
 #include "codec/encode/atlas/pack.h"
 #include "codec/encode/atlas/pages.h"
@@ -33,20 +35,6 @@ struct UnionFind {
   int find(int x) { return parent[x] == x ? x : parent[x] = find(parent[x]); }
   void join(int a, int b) { parent[find(a)] = find(b); }
 };
-
-// Largest distance between a source position and its Draco-decoded copy.
-double quantization_tolerance(const VertexAttribute& pos, int bits) {
-  double lo[3] = {1e300, 1e300, 1e300}, hi[3] = {-1e300, -1e300, -1e300};
-  for (size_t e = 0; e < pos.count(); ++e)
-    for (int i = 0; i < 3; ++i) {
-      lo[i] = std::min<double>(lo[i], pos.get(e, i));
-      hi[i] = std::max<double>(hi[i], pos.get(e, i));
-    }
-  double range = 0;
-  for (int i = 0; i < 3; ++i) range = std::max(range, hi[i] - lo[i]);
-  const double step = range / double((1u << std::clamp(bits, 1, 30)) - 1);
-  return step * 1.01 + 1e-7 * std::max(1.0, range);
-}
 
 // The primitive keeps explicit UVs after all: it gets its own copy of its
 // material (the original is warped for the group's other members, if any)
@@ -212,23 +200,6 @@ Error plan_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, EncodeReport
 
 namespace {
 
-// The density the atlas will give the faces: per face (face_density, from
-// the layout and the source UVs) times the returned factor, or the fixed
-// --texel-density (face_density left empty).
-double atlas_density(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w, uint32_t image_h,
-                     const EncodeOptions& options, std::vector<double>& face_density) {
-  if (options.texel_density > 0) return options.texel_density;
-  face_density = layout_texel_density(er.corner_xy, ip.source_uv, image_w, image_h);
-  return options.texel_density_factor;
-}
-
-std::vector<double> face_texels(const ImplicitPrimitive& ip, const Embedding& er, uint32_t image_w,
-                                uint32_t image_h, const EncodeOptions& options) {
-  std::vector<double> face_density;
-  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
-  return estimated_face_texels(er.corner_xy, face_density, factor);
-}
-
 constexpr size_t kHalveChartsFromFaces = 100'000;
 
 // Repeats beyond which an atlas cannot pay (texel uses per stored texel),
@@ -263,6 +234,126 @@ TexelUse uv0_texel_use(const tinygltf::Model& model, const tinygltf::Primitive& 
     if (std::isfinite(area)) use.uses += area;
   }
   return use;
+}
+
+// The attribute's value at every corner of the geometry, `components` floats each.
+std::vector<float> per_corner(const PrimitiveGeometry& geom, const VertexAttribute& a) {
+  const auto n = size_t(a.components);
+  std::vector<float> out(geom.triangles.size() * n);
+  for (size_t c = 0; c < geom.triangles.size(); ++c)
+    for (size_t i = 0; i < n; ++i) out[n * c + i] = a.get(geom.triangles[c], int(i));
+  return out;
+}
+
+bool all_finite(std::span<const float> values) {
+  return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
+}
+
+// What the geometry becomes when it loses its UVs: TEXCOORD_0 goes, and so
+// does TANGENT (derived from the old UVs; regenerated at decode), and the
+// vertices that differed only there are welded.
+void strip_source_uvs(PrimitiveGeometry& geom) {
+  geom.erase("TEXCOORD_0");
+  geom.erase("TANGENT");
+  weld_vertices(geom.attributes, geom.triangles);
+}
+
+// Empty, or why the geometry's POSITION cannot be embedded.
+std::string position_error(const PrimitiveGeometry& geom) {
+  const VertexAttribute* pos = geom.find("POSITION");
+  if (!pos || pos->components != 3) return "POSITION is not a VEC3";
+  for (size_t e = 0; e < pos->count(); ++e)
+    for (int i = 0; i < 3; ++i)
+      if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
+  return {};
+}
+
+// What prepare_partition needs from the model: the largest image the
+// primitive samples, and the seam test's textures. Those stay in the plan
+// for the next primitive of the same materials.
+PartitionContext partition_context(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                                   ImplicitPlan& plan, const EncodeOptions& options) {
+  PartitionContext context;
+  largest_uv0_image(model, prim, context.image_w, context.image_h);
+  if (options.keep_source_charts && options.cross_hidden_seams && context.image_w > 0) {
+    // A seam is hidden only if every material the primitive can show hides it.
+    if (const std::vector<int> materials = primitive_materials(prim); plan.seam_materials != materials) {
+      plan.seam_textures = uv0_samplers(model, prim);
+      plan.seam_materials = materials;
+    }
+    context.seam_textures = plan.seam_textures;
+  }
+  return context;
+}
+
+bool same_geometry(const PrimitiveGeometry& a, const PrimitiveGeometry& b) {
+  if (a.triangles != b.triangles || a.attributes.size() != b.attributes.size()) return false;
+  for (size_t i = 0; i < a.attributes.size(); ++i) {
+    const VertexAttribute &x = a.attributes[i], &y = b.attributes[i];
+    if (x.semantic != y.semantic || x.component_type != y.component_type || x.components != y.components ||
+        x.normalized != y.normalized || x.data != y.data)
+      return false;
+  }
+  return true;
+}
+
+bool same_bits(std::span<const float> a, std::span<const float> b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size_bytes()) == 0;
+}
+
+// Moves out the prefetched partition of exactly this input (materials,
+// geometry and source UVs, bit for bit), if there is one.
+bool take_prefetched(ImplicitPlan& plan, const tinygltf::Primitive& prim, const PrimitiveGeometry& geom,
+                     std::span<const float> source_corner_uv, PreparedPartition& out) {
+  const std::vector<int> materials = primitive_materials(prim);
+  for (auto it = plan.prefetched.begin(); it != plan.prefetched.end(); ++it)
+    if (it->materials == materials && same_bits(it->source_corner_uv, source_corner_uv) &&
+        same_geometry(it->geom, geom)) {
+      out = std::move(it->prepared);
+      plan.prefetched.erase(it);
+      return true;
+    }
+  return false;
+}
+
+// The parts of a cut are prepared one by one by the encoder's loop, and a
+// large part's partition takes seconds on one core (4-7 s each for the
+// 1M-face sample's parts). Their partitions are prepared here side by side,
+// largest first, while the model is only read; prepare_implicit_primitive
+// takes each from plan.prefetched when its own inputs are the same, so a
+// part the loop treats otherwise (a fallback, a second cut) costs time,
+// never bytes.
+void prefetch_partitions(const tinygltf::Model& model, int mesh, std::vector<int> parts, ImplicitPlan& plan,
+                         const EncodeOptions& options) {
+  const size_t workers = worker_count(parts.size());
+  if (workers < 2 || !options.prefetch_partitions) return;
+  const auto& prims = model.meshes[size_t(mesh)].primitives;
+  const std::vector<int> materials = primitive_materials(prims[size_t(parts[0])]);
+  // Taken before the workers start: it may load the seam test's textures.
+  const PartitionContext context = partition_context(model, prims[size_t(parts[0])], plan, options);
+  auto faces = [&](int p) {
+    const tinygltf::Primitive& prim = prims[size_t(p)];
+    return prim.indices >= 0 ? model.accessors[size_t(prim.indices)].count : 0;
+  };
+  std::stable_sort(parts.begin(), parts.end(), [&](int a, int b) { return faces(a) > faces(b); });
+  std::vector<PrefetchedPartition> found(parts.size());
+  std::vector<char> ready(parts.size(), 0);
+  run_in_parallel(parts.size(), workers, [&](size_t i, size_t) {
+    const tinygltf::Primitive& prim = prims[size_t(parts[i])];
+    PrefetchedPartition& out = found[i];
+    out.materials = primitive_materials(prim);
+    if (out.materials != materials || !read_primitive(model, prim, out.geom).empty()) return;
+    const VertexAttribute* uv0 = out.geom.find("TEXCOORD_0");
+    if (!uv0 || uv0->components != 2) return;
+    out.source_corner_uv = per_corner(out.geom, *uv0);
+    if (!all_finite(out.source_corner_uv)) return;
+    strip_source_uvs(out.geom);
+    if (!position_error(out.geom).empty() || out.geom.triangles.empty()) return;
+    out.prepared = prepare_partition(out.geom, out.source_corner_uv, context, options);
+    ready[i] = 1;
+  });
+  for (size_t i = 0; i < parts.size(); ++i)
+    if (ready[i]) plan.prefetched.push_back(std::move(found[i]));
 }
 
 // Part of each face when the source's texels alone pass one page (their
@@ -321,7 +412,7 @@ std::vector<uint32_t> page_parts(const ImplicitPrimitive& ip, const Embedding& e
                                  const EncodeOptions& options) {
   if (options.max_pages <= 1 || image_w == 0 || er.patch_count < 2) return {};
   std::vector<double> face_density;
-  const double factor = atlas_density(ip, er, image_w, image_h, options, face_density);
+  const double factor = atlas_density(er.corner_xy, ip.source_uv, image_w, image_h, options, face_density);
   const auto texels =
       estimated_patch_texels(er.corner_xy, er.patch_of_face, er.patch_count, face_density, factor);
   double total = 0;
@@ -359,7 +450,10 @@ Error cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& sou
   PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
   cut.appended = cut_primitive(model, pr.mesh, pr.primitive, source, part_of_face, parts, replaced);
   for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
+  std::vector<int> part_primitives{pr.primitive};
+  part_primitives.insert(part_primitives.end(), cut.appended.begin(), cut.appended.end());
   plan.cuts.push_back(std::move(cut));
+  prefetch_partitions(model, pr.mesh, std::move(part_primitives), plan, options);
   tinygltf::Primitive& first = model.meshes[pr.mesh].primitives[pr.primitive];
   PrimitiveGeometry part;
   if (Error e = error_if(ErrorCode::invalid_input, read_primitive(model, first, part)); e.failed()) return e;
@@ -383,13 +477,8 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   const VertexAttribute* uv0 = geom.find("TEXCOORD_0");
   if (!uv0 || uv0->components != 2)
     return fall_back(model, prim, plan, pr, FallbackReason::texcoord_not_vec2);
-  std::vector<float> source_corner_uv(geom.triangles.size() * 2);
-  for (size_t c = 0; c < geom.triangles.size(); ++c)
-    for (int i = 0; i < 2; ++i) {
-      source_corner_uv[2 * c + i] = uv0->get(geom.triangles[c], i);
-      if (!std::isfinite(source_corner_uv[2 * c + i]))
-        return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
-    }
+  const std::vector<float> source_corner_uv = per_corner(geom, *uv0);
+  if (!all_finite(source_corner_uv)) return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
   // Tiled or repeated UVs (a cloth whose texture repeats 30 times through
   // KHR_texture_transform): the atlas would store each repeat, many times the
   // texels the source stores once, and explicit UVs win by far. Decided here,
@@ -414,22 +503,20 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   // A source TANGENT is the frame viewers light the source's normal map in:
   // the warp re-expresses normals from it (else from MikkTSpace on the UVs).
   std::vector<float> source_corner_tangent;
-  if (const VertexAttribute* tan = geom.find("TANGENT"); tan && tan->components == 4) {
-    source_corner_tangent.resize(geom.triangles.size() * 4);
-    for (size_t c = 0; c < geom.triangles.size(); ++c)
-      for (int i = 0; i < 4; ++i) source_corner_tangent[4 * c + i] = tan->get(geom.triangles[c], i);
-  }
-  geom.erase("TEXCOORD_0");
-  geom.erase("TANGENT");  // derived from the old UVs; regenerated at decode
-  weld_vertices(geom.attributes, geom.triangles);
-  const VertexAttribute* src_pos = geom.find("POSITION");
-  if (!src_pos || src_pos->components != 3) return {ErrorCode::invalid_input, "POSITION is not a VEC3"};
-  for (size_t e = 0; e < src_pos->count(); ++e)
-    for (int i = 0; i < 3; ++i)
-      if (!std::isfinite(src_pos->get(e, i)))
-        return {ErrorCode::invalid_input, "POSITION holds a NaN or infinite value"};
+  if (const VertexAttribute* tan = geom.find("TANGENT"); tan && tan->components == 4)
+    source_corner_tangent = per_corner(geom, *tan);
+  strip_source_uvs(geom);
+  if (Error e = error_if(ErrorCode::invalid_input, position_error(geom)); e.failed()) return e;
 
   if (geom.triangles.empty()) return fall_back(model, prim, plan, pr, FallbackReason::no_triangles);
+
+  // The costly half (Draco, the partition) is a pure function of the
+  // geometry and the textures: prefetched for the parts of a cut.
+  const PartitionContext context = partition_context(model, prim, plan, options);
+  PreparedPartition prepared;
+  if (!take_prefetched(plan, prim, geom, source_corner_uv, prepared))
+    prepared = prepare_partition(geom, source_corner_uv, context, options);
+  if (Error e = error_if(ErrorCode::invalid_input, prepared.error); e.failed()) return e;
 
   // The geometry is written to a trial copy of the primitive first: if the
   // embedding fails, the primitive falls back to explicit UVs untouched, and
@@ -437,19 +524,14 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   tinygltf::Primitive trial = prim;
   std::vector<int> trial_replaced;
   const size_t accessors_before = model.accessors.size();
-  double tolerance = 1e-9;
   if (options.raw_geometry) {
     write_primitive_plain(model, trial, geom, trial_replaced);
-    ip.decoded = geom;
-    pr.geometry_bytes += plain_geometry_bytes(geom);
+    pr.geometry_bytes += prepared.geometry_bytes;
   } else {
-    if (Error e = error_if(ErrorCode::invalid_input,
-                           write_primitive_draco(model, trial, geom, options.draco, trial_replaced,
-                                                 ip.decoded, pr.geometry_bytes));
-        e.failed())
-      return e;
-    tolerance = quantization_tolerance(*src_pos, options.draco.position_bits) * std::sqrt(3.0);
+    attach_draco(model, trial, prepared.encoded, prepared.decoded, trial_replaced);
+    pr.geometry_bytes = prepared.geometry_bytes;
   }
+  ip.decoded = std::move(prepared.decoded);
   auto discard_trial = [&](FallbackReason why, LayoutStatus layout = LayoutStatus::ok) {
     for (size_t i = accessors_before; i < model.accessors.size(); ++i)
       replaced.push_back(static_cast<int>(i));
@@ -458,84 +540,19 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   };
   if (ip.decoded.triangles.empty()) return discard_trial(FallbackReason::no_triangles_after_draco);
 
-  std::vector<uint32_t> point_to_vertex;
-  ip.tri = embedding_mesh(*ip.decoded.find("POSITION"), ip.decoded.triangles, point_to_vertex);
-  const CornerMatch match =
-      match_corners(src_pos->to_floats(), geom.triangles, ip.decoded.find("POSITION")->to_floats(),
-                    ip.decoded.triangles, tolerance);
-  ip.source_uv.resize(ip.decoded.triangles.size() * 2);
-  for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
-    for (int i = 0; i < 2; ++i) ip.source_uv[2 * c + i] = source_corner_uv[2 * match.source_corner[c] + i];
+  ip.tri = std::move(prepared.tri);
+  ip.source_uv = std::move(prepared.source_uv);
+  const CornerMatch& match = prepared.match;
   if (!source_corner_tangent.empty()) {
     ip.source_tangents.resize(ip.decoded.triangles.size() * 4);
     for (size_t c = 0; c < ip.decoded.triangles.size(); ++c)
       for (int i = 0; i < 4; ++i)
         ip.source_tangents[4 * c + i] = source_corner_tangent[4 * match.source_corner[c] + i];
   }
-
-  EmbedOptions eo;
-  eo.tau = options.tau;
-  eo.mode = options.greedy_partition ? PartitionMode::greedy : PartitionMode::compact;
-  eo.solve_merge = options.mixed_layout;
-  // Density-aware partition: faces of very different source texel density
-  // land in different patches, so the per-patch scale can keep each one's detail.
-  uint32_t image_w = 0, image_h = 0;
-  largest_uv0_image(model, prim, image_w, image_h);
-  std::vector<double> face_density;
-  if (image_w > 0) face_density = triangle_texel_density(ip.tri, ip.source_uv, image_w, image_h);
-  eo.face_density = face_density;
-  std::vector<uint32_t> face_chart;
-  if (options.keep_source_charts && image_w > 0) {
-    // Seams the source's own textures hide do not bound charts. Measured
-    // (seams, images, dB): Duck 557 -> 516, 6.8 -> 6.5 KB, 41.7 -> 41.1;
-    // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
-    // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
-    // to 8/32: the seams crossed are ones where both sides show one colour.
-    // A seam is hidden only if every material the primitive can show hides it.
-    if (const std::vector<int> materials = primitive_materials(prim);
-        options.cross_hidden_seams && plan.seam_materials != materials) {
-      plan.seam_textures = uv0_samplers(model, prim);
-      plan.seam_materials = materials;
-    }
-    const bool test_seams = options.cross_hidden_seams && !plan.seam_textures.empty();
-    face_chart =
-        source_charts(ip.tri, ip.source_uv, test_seams ? texture_seam_test(plan.seam_textures) : SeamTest());
-  }
-  eo.face_chart = face_chart;
-  // Inside one source chart densities rarely jump (artists give detail its
-  // own chart), so the density rule only guards the extreme cases there.
-  // Measured with charts: ratio 8 costs Duck 658 seams against 557 at 32 and
-  // 532 off, at the same 42.6 dB and bytes; CesiumMilkTruck is 284 KB at 8
-  // and 32 and 297 KB with the rule off.
-  if (!face_chart.empty()) eo.max_density_ratio = 32.0;
-  // With texel reuse, faces that repeat source texels get copy patches the
-  // packer can land on their originals (twin_partition.h).
-  TwinEmbedding te;
-  auto run_embed = [&] {
-    if (options.texel_reuse) {
-      te = embed_with_twins(ip.tri, ip.source_uv, eo);
-    } else {
-      te = TwinEmbedding{};
-      te.embedding = embed(ip.tri, eo);
-    }
-  };
-  run_embed();
+  TwinEmbedding& te = prepared.twins;
   Embedding& er = te.embedding;
   if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
-  // A patch larger than a page could not go to pages (a flat ground plane
-  // under a big texture is one patch): its faces are split into regions of
-  // about half a page that no patch may cross, and the mesh is embedded
-  // again, a few times at most.
-  for (int round = 0; round < 3 && options.max_pages > 1 && image_w > 0; ++round) {
-    std::vector<uint32_t> regions = split_large_patches(ip.tri, er.patch_of_face, er.patch_count,
-                                                        face_texels(ip, er, image_w, image_h, options),
-                                                        page_capacity(options.max_atlas_size), face_chart);
-    if (regions.empty()) break;
-    face_chart = std::move(regions);
-    eo.face_chart = face_chart;
-    run_embed();
-    if (er.status != LayoutStatus::ok) return discard_trial(FallbackReason::embedding_failed, er.status);
-  }
+  const uint32_t image_w = context.image_w, image_h = context.image_h;
 
   // Too many texels for one atlas page: cut along patch boundaries into
   // parts of about a page each, and start again on the first part (the
@@ -582,7 +599,7 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   pr.holes = er.report.holes;
   if (options.report_greedy && !options.greedy_partition) {
     // The paper's plain growth on the same mesh, for comparison only.
-    EmbedOptions go = eo;
+    EmbedOptions go = partition_options(options, prepared.face_density, prepared.face_chart);
     go.mode = PartitionMode::greedy;
     go.solve_merge = false;
     const Embedding g = embed(ip.tri, go);

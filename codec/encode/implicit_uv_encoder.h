@@ -13,6 +13,7 @@
 #include "codec/core/layout_solve.h"
 #include "codec/core/mesh.h"
 #include "codec/encode/encoder.h"
+#include "codec/encode/primitive_partition.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
@@ -58,6 +59,15 @@ struct PrimitiveCut {
   std::vector<int> appended;
 };
 
+// A cut part's partition, prepared ahead of the encoder's loop
+// (prefetch_partitions), with the inputs it was prepared from.
+struct PrefetchedPartition {
+  std::vector<int> materials;           // primitive_materials of the part
+  PrimitiveGeometry geom;               // without TEXCOORD_0 and TANGENT, welded
+  std::vector<float> source_corner_uv;  // its TEXCOORD_0 per corner
+  PreparedPartition prepared;
+};
+
 struct ImplicitPlan {
   std::map<std::pair<int, int>, int> group_of;  // (mesh, primitive) -> group
   std::vector<PrimitiveCut> cuts;               // in the order they were made
@@ -69,6 +79,9 @@ struct ImplicitPlan {
   // once and only one set's are held.
   std::vector<int> seam_materials;
   std::vector<TextureSampler> seam_textures;
+  // Partitions of the parts of the latest cuts, not yet taken by
+  // prepare_implicit_primitive.
+  std::vector<PrefetchedPartition> prefetched;
   bool is_implicit(int mesh, int primitive) const { return group_of.count({mesh, primitive}) > 0; }
 };
 

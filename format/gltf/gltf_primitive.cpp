@@ -145,25 +145,26 @@ std::string non_finite_attribute(const PrimitiveGeometry& geom) {
   return "";
 }
 
-std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim,
-                                  const PrimitiveGeometry& geom, const DracoOptions& options,
-                                  std::vector<int>& replaced, PrimitiveGeometry& decoded,
-                                  size_t& draco_bytes) {
+std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options, DracoEncoded& encoded,
+                             PrimitiveGeometry& decoded) {
   if (std::string err = non_finite_attribute(geom); !err.empty()) return err;
-  DracoEncoded enc = draco_encode(geom.attributes, geom.triangles, options);
-  if (!enc.error.empty()) return enc.error;
+  encoded = draco_encode(geom.attributes, geom.triangles, options);
+  if (!encoded.error.empty()) return encoded.error;
   // Decode our own bytes: the decoder's mesh (order, quantized values) is the
   // only geometry the rest of the encoder may look at.
   std::vector<DracoWanted> wanted;
   for (const auto& a : geom.attributes)
     wanted.push_back(
-        {a.semantic, enc.attribute_ids.at(a.semantic), a.component_type, a.components, a.normalized});
-  DracoDecoded dec = draco_decode(enc.bytes.data(), enc.bytes.size(), wanted);
+        {a.semantic, encoded.attribute_ids.at(a.semantic), a.component_type, a.components, a.normalized});
+  DracoDecoded dec = draco_decode(encoded.bytes.data(), encoded.bytes.size(), wanted);
   if (!dec.error.empty()) return "Draco round trip failed: " + dec.error;
   decoded.attributes = std::move(dec.attributes);
   decoded.triangles = std::move(dec.triangles);
-  draco_bytes = enc.bytes.size();
+  return {};
+}
 
+void attach_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const DracoEncoded& encoded,
+                  const PrimitiveGeometry& decoded, std::vector<int>& replaced) {
   for (const auto& [s, idx] : prim.attributes) replaced.push_back(idx);
   if (prim.indices >= 0) replaced.push_back(prim.indices);
   prim.attributes.clear();
@@ -177,7 +178,7 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
     fill_min_max(acc, a);
     model.accessors.push_back(acc);
     prim.attributes[a.semantic] = static_cast<int>(model.accessors.size() - 1);
-    attr_ids[a.semantic] = tinygltf::Value(enc.attribute_ids.at(a.semantic));
+    attr_ids[a.semantic] = tinygltf::Value(encoded.attribute_ids.at(a.semantic));
   }
   tinygltf::Accessor ind;
   ind.componentType = decoded.vertex_count() <= 0xFFFF ? TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT
@@ -189,10 +190,20 @@ std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& p
   prim.mode = TINYGLTF_MODE_TRIANGLES;
 
   tinygltf::Value::Object ext;
-  ext["bufferView"] = tinygltf::Value(add_buffer_view(model, enc.bytes));
+  ext["bufferView"] = tinygltf::Value(add_buffer_view(model, encoded.bytes));
   ext["attributes"] = tinygltf::Value(attr_ids);
   prim.extensions[kDracoExtension] = tinygltf::Value(ext);
   declare_extension(model, kDracoExtension, true);
+}
+
+std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim,
+                                  const PrimitiveGeometry& geom, const DracoOptions& options,
+                                  std::vector<int>& replaced, PrimitiveGeometry& decoded,
+                                  size_t& draco_bytes) {
+  DracoEncoded encoded;
+  if (std::string err = draco_round_trip(geom, options, encoded, decoded); !err.empty()) return err;
+  draco_bytes = encoded.bytes.size();
+  attach_draco(model, prim, encoded, decoded, replaced);
   return {};
 }
 

@@ -47,11 +47,20 @@ size_t plain_geometry_bytes(const PrimitiveGeometry& geom);
 // makes every value garbage, and its float-to-int casts undefined).
 std::string non_finite_attribute(const PrimitiveGeometry& geom);
 
-// Encodes with Draco and points the primitive at the compressed bufferView;
+// Encodes with Draco and decodes the bytes again: `decoded` receives what
+// every decoder will see. Float attributes holding NaN or infinities are
+// refused. A pure function of its arguments (the encoder runs it for
+// several primitives side by side).
+std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options, DracoEncoded& encoded,
+                             PrimitiveGeometry& decoded);
+
+// Points the primitive at `encoded` (draco_round_trip) in a new bufferView;
 // the accessors keep type and count but no bufferView, as the extension
-// prescribes. `decoded` receives what every decoder will see. Float
-// attributes holding NaN or infinities are refused. `extra_empty`
-// names attributes to declare without data (e.g. TEXCOORD_0 rebuilt by us).
+// prescribes, and min/max from `decoded`. Old accessor ids go to `replaced`.
+void attach_draco(tinygltf::Model& model, tinygltf::Primitive& prim, const DracoEncoded& encoded,
+                  const PrimitiveGeometry& decoded, std::vector<int>& replaced);
+
+// draco_round_trip, then attach_draco; `draco_bytes` receives the bytes' size.
 std::string write_primitive_draco(tinygltf::Model& model, tinygltf::Primitive& prim,
                                   const PrimitiveGeometry& geom, const DracoOptions& options,
                                   std::vector<int>& replaced, PrimitiveGeometry& decoded,
