@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "codec/core/parallel.h"
 #include "codec/encode/texture/image_io.h"
 
 namespace gltfwarp {
@@ -32,7 +33,9 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
   // Lossless pages are measured before they are coded (the coding does not
   // change what a viewer shows), so an atlas below `code_floor`, which the
   // caller will not keep, is never coded: level-9 PNG of atlas-sized pages
-  // is a fifth of the 1M-face sample's encode. Held up to a bound on memory.
+  // is a fifth of the 1M-face sample's encode. The pages kept are coded
+  // together at the end, side by side (a page's two PNG passes are unequal,
+  // so one page alone keeps about one core busy). Held up to a bound on memory.
   struct Uncoded {
     size_t job;
     OIIO::ImageBuf atlas;
@@ -62,7 +65,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       WarpJob job{source.key, source.image, page, {}, coding.mime};
       const std::string image = "image " + std::to_string(source.image) + ": ";
       const size_t atlas_bytes = atlas.spec().image_bytes();
-      if (!coding.lossy && code_floor > 0 && held_bytes + atlas_bytes <= kMaxHeldBytes) {
+      if (!coding.lossy && held_bytes + atlas_bytes <= kMaxHeldBytes) {
         if (!source.slot.normal_map) measure_page_image(source, coding, *decoded, atlas, uvs, true, out);
         held_bytes += atlas_bytes;
         uncoded.push_back({out.jobs.size(), std::move(atlas), palette, coding});
@@ -81,13 +84,19 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
     }
   }
   out.coded = uncoded.empty() || !(out.error.values > 0 && out.floor_psnr() < code_floor);
-  if (out.coded)
-    for (Uncoded& u : uncoded) {
-      WarpJob& job = out.jobs[u.job];
-      if (Error e = code_page_image(u.atlas, u.palette, u.coding, job.bytes); e.failed())
-        return e.at("image " + std::to_string(job.image) + ": ");
+  if (out.coded) {
+    std::vector<Error> errors(uncoded.size());
+    run_in_parallel(uncoded.size(), worker_count(uncoded.size()), [&](size_t i, size_t) {
+      errors[i] = code_page_image(uncoded[i].atlas, uncoded[i].palette, uncoded[i].coding,
+                                  out.jobs[uncoded[i].job].bytes);
+      uncoded[i].atlas.clear();  // the page's pixels are no longer needed
+    });
+    for (size_t i = 0; i < uncoded.size(); ++i) {
+      const WarpJob& job = out.jobs[uncoded[i].job];
+      if (errors[i].failed()) return errors[i].at("image " + std::to_string(job.image) + ": ");
       out.report.atlas_image_bytes += job.bytes.size();
     }
+  }
   out.report.psnr = out.floor_psnr();
   for (size_t l = 0; l < kMipLevels; ++l) {
     out.report.mip_psnr[l] = out.mip.level[l].values ? out.mip.level[l].psnr() : 0;
