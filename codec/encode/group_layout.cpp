@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <span>
 
+#include "codec/core/parallel.h"
 #include "codec/encode/atlas/pack.h"
 #include "codec/encode/atlas/pages.h"
 #include "codec/encode/atlas/texel_density.h"
@@ -73,13 +74,19 @@ Error pack_pages(const std::vector<PackPrimitive>& pp, const PackOptions& po, do
   ar.reused_patches = 0;
   ar.reused_texels = 0;
   double covered = 0, page_texels = 0;
-  for (size_t page = 0; page < out.pages.size(); ++page) {
+  // Pages are packed side by side (each packing is a pure function of its
+  // members): a page whose largest patches take long keeps one core busy.
+  std::vector<PackResult> results(out.pages.size());
+  std::vector<PackStatus> status(out.pages.size(), PackStatus::ok);
+  run_in_parallel(out.pages.size(), worker_count(out.pages.size()), [&](size_t page, size_t) {
     std::vector<PackPrimitive> on_page;
     for (size_t k : out.pages[page]) on_page.push_back(pp[k]);
-    PackResult packed;
-    const PackStatus ps = pack_atlas(on_page, po, packed);
-    if (ps != PackStatus::ok)
-      return {ErrorCode::internal, std::string("atlas packing failed: ") + to_string(ps)};
+    status[page] = pack_atlas(on_page, po, results[page]);
+  });
+  for (size_t page = 0; page < out.pages.size(); ++page) {
+    const PackResult& packed = results[page];
+    if (status[page] != PackStatus::ok)
+      return {ErrorCode::internal, std::string("atlas packing failed: ") + to_string(status[page])};
     for (size_t i = 0; i < out.pages[page].size(); ++i) {
       out.maps[out.pages[page][i]] = packed.maps[i];
       out.page_of_member[out.pages[page][i]] = uint32_t(page);
