@@ -138,7 +138,7 @@ int default_jobs() {
   for (std::string key; meminfo >> key;) {
     uint64_t kb = 0;
     meminfo >> kb;
-    if (key == "MemAvailable:") return std::clamp(int(kb / (1638 * 1024)), 1, cores);
+    if (key == "MemAvailable:") return std::clamp(int(kb / (1843 * 1024)), 1, cores);
     meminfo.ignore(1 << 10, '\n');
   }
   return cores;

@@ -5,7 +5,7 @@
 // that each wait on one child. Why children, not N encodes in one process:
 //  - a crash (or an out-of-memory kill) on one hostile or huge file ends
 //    that file's child only; the batch reports it and goes on;
-//  - each child's memory (about 1.5 GB at peak for a 1M-triangle model with
+//  - each child's memory (about 1.7 GB at peak for a 1M-triangle model with
 //    4096² textures) goes back to the system when it exits, so the peak is
 //    that of the --jobs largest files at once, with no fragmentation growth
 //    over thousands of files;
@@ -37,8 +37,8 @@ struct BatchOptions {
   bool quiet = false;               // no per-file lines for files that went well
 };
 
-// The cores, but no more than the available memory / 1.6 GB (the peak of a
-// 1M-triangle encode, about 1.5 GB, with a margin), and at least 1.
+// The cores, but no more than the available memory / 1.8 GB (the peak of a
+// 1M-triangle encode, about 1.7 GB, with a margin), and at least 1.
 int default_jobs();
 
 // Runs the batch; `worker` is the command line of one child without its

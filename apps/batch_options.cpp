@@ -16,8 +16,8 @@ void add_batch_options(CLI::App& app, BatchOptions& batch, std::string& shard) {
       ->group(group);
   app.add_option("-j,--jobs", batch.jobs,
                  "Files encoded at once, each in its own process. Memory grows with it: a 1M-triangle model "
-                 "with 4096² textures peaks at 1.5 GB per job. Default: the cores, at most available "
-                 "memory / 1.6 GB; at most 64")
+                 "with 4096² textures peaks at 1.7 GB per job. Default: the cores, at most available "
+                 "memory / 1.8 GB; at most 64")
       ->type_name("N")
       ->check(CLI::Range(1, 64))
       ->group(group);
