@@ -341,6 +341,8 @@ void prefetch_partitions(const tinygltf::Model& model, int mesh, std::vector<int
   run_in_parallel(parts.size(), workers, [&](size_t i, size_t) {
     const tinygltf::Primitive& prim = prims[size_t(parts[i])];
     PrefetchedPartition& out = found[i];
+    out.mesh = mesh;
+    out.primitive = parts[i];
     out.materials = primitive_materials(prim);
     if (out.materials != materials || !read_primitive(model, prim, out.geom).empty()) return;
     const VertexAttribute* uv0 = out.geom.find("TEXCOORD_0");
@@ -450,6 +452,10 @@ Error cut_and_prepare_first(tinygltf::Model& model, const PrimitiveGeometry& sou
   PrimitiveCut cut{pr.mesh, pr.primitive, model.meshes[pr.mesh].primitives[pr.primitive], {}};
   cut.appended = cut_primitive(model, pr.mesh, pr.primitive, source, part_of_face, parts, replaced);
   for (int appended : cut.appended) plan.group_of[{pr.mesh, appended}] = group;
+  // A part cut again before it took its prefetched partition never will.
+  std::erase_if(plan.prefetched, [&](const PrefetchedPartition& p) {
+    return p.mesh == pr.mesh && p.primitive == pr.primitive;
+  });
   std::vector<int> part_primitives{pr.primitive};
   part_primitives.insert(part_primitives.end(), cut.appended.begin(), cut.appended.end());
   plan.cuts.push_back(std::move(cut));
@@ -478,7 +484,8 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   if (!uv0 || uv0->components != 2)
     return fall_back(model, prim, plan, pr, FallbackReason::texcoord_not_vec2);
   const std::vector<float> source_corner_uv = per_corner(geom, *uv0);
-  if (!all_finite(source_corner_uv)) return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
+  if (!all_finite(source_corner_uv))
+    return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
   // Tiled or repeated UVs (a cloth whose texture repeats 30 times through
   // KHR_texture_transform): the atlas would store each repeat, many times the
   // texels the source stores once, and explicit UVs win by far. Decided here,

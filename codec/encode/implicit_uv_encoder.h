@@ -62,6 +62,7 @@ struct PrimitiveCut {
 // A cut part's partition, prepared ahead of the encoder's loop
 // (prefetch_partitions), with the inputs it was prepared from.
 struct PrefetchedPartition {
+  int mesh = -1, primitive = -1;        // the part it was prepared for
   std::vector<int> materials;           // primitive_materials of the part
   PrimitiveGeometry geom;               // without TEXCOORD_0 and TANGENT, welded
   std::vector<float> source_corner_uv;  // its TEXCOORD_0 per corner

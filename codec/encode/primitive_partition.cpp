@@ -80,11 +80,12 @@ PreparedPartition prepare_partition(const PrimitiveGeometry& geom, std::span<con
   std::vector<uint32_t> point_to_vertex;
   const VertexAttribute& decoded_pos = *out.decoded.find("POSITION");
   out.tri = embedding_mesh(decoded_pos, out.decoded.triangles, point_to_vertex);
-  out.match =
-      match_corners(src_pos.to_floats(), geom.triangles, decoded_pos.to_floats(), out.decoded.triangles, tolerance);
+  out.match = match_corners(src_pos.to_floats(), geom.triangles, decoded_pos.to_floats(),
+                            out.decoded.triangles, tolerance);
   out.source_uv.resize(out.decoded.triangles.size() * 2);
   for (size_t c = 0; c < out.decoded.triangles.size(); ++c)
-    for (int i = 0; i < 2; ++i) out.source_uv[2 * c + i] = source_corner_uv[2 * out.match.source_corner[c] + i];
+    for (int i = 0; i < 2; ++i)
+      out.source_uv[2 * c + i] = source_corner_uv[2 * out.match.source_corner[c] + i];
 
   const uint32_t image_w = context.image_w, image_h = context.image_h;
   if (image_w > 0) out.face_density = triangle_texel_density(out.tri, out.source_uv, image_w, image_h);
@@ -94,9 +95,9 @@ PreparedPartition prepare_partition(const PrimitiveGeometry& geom, std::span<con
     // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
     // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
     // to 8/32: the seams crossed are ones where both sides show one colour.
-    out.face_chart = source_charts(out.tri, out.source_uv,
-                                   context.seam_textures.empty() ? SeamTest()
-                                                                 : texture_seam_test(context.seam_textures));
+    out.face_chart =
+        source_charts(out.tri, out.source_uv,
+                      context.seam_textures.empty() ? SeamTest() : texture_seam_test(context.seam_textures));
   }
   // With texel reuse, faces that repeat source texels get copy patches the
   // packer can land on their originals (twin_partition.h).
@@ -117,10 +118,10 @@ PreparedPartition prepare_partition(const PrimitiveGeometry& geom, std::span<con
   // again, a few times at most.
   for (int round = 0; round < 3 && er.status == LayoutStatus::ok && options.max_pages > 1 && image_w > 0;
        ++round) {
-    std::vector<uint32_t> regions = split_large_patches(
-        out.tri, er.patch_of_face, er.patch_count,
-        face_texels(er.corner_xy, out.source_uv, image_w, image_h, options),
-        page_capacity(options.max_atlas_size), out.face_chart);
+    std::vector<uint32_t> regions =
+        split_large_patches(out.tri, er.patch_of_face, er.patch_count,
+                            face_texels(er.corner_xy, out.source_uv, image_w, image_h, options),
+                            page_capacity(options.max_atlas_size), out.face_chart);
     if (regions.empty()) break;
     out.face_chart = std::move(regions);
     run_embed();

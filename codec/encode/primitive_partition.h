@@ -28,16 +28,16 @@ struct PartitionContext {
 };
 
 struct PreparedPartition {
-  std::string error;                // Draco refused the geometry or failed: the input is at fault
-  DracoEncoded encoded;             // empty with raw geometry
-  PrimitiveGeometry decoded;        // what every decoder sees
-  size_t geometry_bytes = 0;        // Draco's bytes, or the plain arrays'
-  TriMesh tri;                      // embedding mesh (decoded positions welded exactly)
-  CornerMatch match;                // decoded corner -> source corner
-  std::vector<float> source_uv;     // TEXCOORD_0 of the source, 2 per corner of `tri`
-  std::vector<double> face_density; // source texels per unit, per face (empty: no image)
-  std::vector<uint32_t> face_chart; // the charts the last embedding ran with (empty: none)
-  TwinEmbedding twins;              // the partition; not run when `decoded` has no triangle
+  std::string error;                 // Draco refused the geometry or failed: the input is at fault
+  DracoEncoded encoded;              // empty with raw geometry
+  PrimitiveGeometry decoded;         // what every decoder sees
+  size_t geometry_bytes = 0;         // Draco's bytes, or the plain arrays'
+  TriMesh tri;                       // embedding mesh (decoded positions welded exactly)
+  CornerMatch match;                 // decoded corner -> source corner
+  std::vector<float> source_uv;      // TEXCOORD_0 of the source, 2 per corner of `tri`
+  std::vector<double> face_density;  // source texels per unit, per face (empty: no image)
+  std::vector<uint32_t> face_chart;  // the charts the last embedding ran with (empty: none)
+  TwinEmbedding twins;               // the partition; not run when `decoded` has no triangle
 };
 
 // `geom`: the primitive welded, without TEXCOORD_0 and TANGENT, every

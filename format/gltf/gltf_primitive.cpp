@@ -145,8 +145,8 @@ std::string non_finite_attribute(const PrimitiveGeometry& geom) {
   return "";
 }
 
-std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options, DracoEncoded& encoded,
-                             PrimitiveGeometry& decoded) {
+std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options,
+                             DracoEncoded& encoded, PrimitiveGeometry& decoded) {
   if (std::string err = non_finite_attribute(geom); !err.empty()) return err;
   encoded = draco_encode(geom.attributes, geom.triangles, options);
   if (!encoded.error.empty()) return encoded.error;

@@ -51,8 +51,8 @@ std::string non_finite_attribute(const PrimitiveGeometry& geom);
 // every decoder will see. Float attributes holding NaN or infinities are
 // refused. A pure function of its arguments (the encoder runs it for
 // several primitives side by side).
-std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options, DracoEncoded& encoded,
-                             PrimitiveGeometry& decoded);
+std::string draco_round_trip(const PrimitiveGeometry& geom, const DracoOptions& options,
+                             DracoEncoded& encoded, PrimitiveGeometry& decoded);
 
 // Points the primitive at `encoded` (draco_round_trip) in a new bufferView;
 // the accessors keep type and count but no bufferView, as the extension
