@@ -66,7 +66,7 @@ std::string density_text(const EncodeOptions& o) {
 Runner add_encode(CLI::App& app) {
   struct Args {
     std::vector<std::string> inputs;
-    std::string out, geometry, partition, layout, texel_density, texel_budget;
+    std::string out, geometry, partition, layout, orientation, texel_density, texel_budget;
     EncodeOptions opt;
     BatchOptions batch;
     std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
@@ -76,6 +76,7 @@ Runner add_encode(CLI::App& app) {
   a->geometry = a->opt.raw_geometry ? "raw" : "draco";
   a->partition = a->opt.greedy_partition ? "greedy" : "compact";
   a->layout = a->opt.mixed_layout ? "mixed" : "unfold";
+  a->orientation = a->opt.orient_to_source ? "source" : "rectangle";
   a->texel_density = density_text(a->opt);
   a->texel_budget = budget_name(a->opt.texel_budget);
   app.option_defaults()->always_capture_default();
@@ -95,6 +96,11 @@ Runner add_encode(CLI::App& app) {
                  "unfold (every patch replays the unfolding: format 1.0/1.1), or mixed (compact: also merge "
                  "patches whose union the solve method lays out within tau: format 1.2)")
       ->check(CLI::IsMember({"unfold", "mixed"}));
+  app.add_option("--orientation", a->orientation,
+                 "source (turn each patch so the source image's rows and columns run along the atlas's: "
+                 "smaller images at equal quality on the corpus), or rectangle (its minimum-area rectangle "
+                 "upright: the paper's rule, tighter packing)")
+      ->check(CLI::IsMember({"source", "rectangle"}));
   app.add_flag(
       "--report-greedy", a->opt.report_greedy,
       "Also partition each primitive with plain greedy growth and report its patches, seams, fill and holes "
@@ -180,6 +186,7 @@ Runner add_encode(CLI::App& app) {
     opt.raw_geometry = a->geometry == "raw";
     opt.greedy_partition = a->partition == "greedy";
     opt.mixed_layout = a->layout == "mixed";
+    opt.orient_to_source = a->orientation == "source";
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile
                                                   : DensityMode::preserve_texel_count;

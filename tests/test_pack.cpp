@@ -19,7 +19,7 @@ struct GenPrim {
   std::vector<double> corner_xy;
   uint32_t patch_count = 0;
   PackPrimitive view() const {
-    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy, {}, {}, {}, {}, {}, {}, {}};
+    return PackPrimitive{&mesh, patch_of_face, patch_count, corner_xy, {}, {}, {}, {}, {}, {}, {}, {}};
   }
 };
 
@@ -179,6 +179,62 @@ TEST(Pack, NoOverlapGutterInsideAndFill) {
   std::printf("fill %.3f atlas %ux%u covered %llu, %.1f ms\n", r.fill, r.atlas_width, r.atlas_height,
               (unsigned long long)r.covered_texels, r.seconds * 1e3);
   EXPECT_GT(r.fill, 0.6);
+}
+
+// The source's texel axes, as seen in the atlas: per face, the angle (in
+// degrees, folded into [-45, 45)) of the source u gradient over the placed
+// corners. 0 means the source's columns run along the atlas's.
+std::vector<double> source_axis_angles(const GenPrim& g, std::span<const float> source_uv, const UvMap& map) {
+  std::vector<double> t, out;
+  placed_corner_texels(g.corner_xy, map, t);
+  for (size_t f = 0; f < g.patch_of_face.size(); ++f) {
+    const double* c = &t[6 * f];
+    const float* uv = &source_uv[6 * f];
+    const double e1x = c[2] - c[0], e1y = c[3] - c[1], e2x = c[4] - c[0], e2y = c[5] - c[1];
+    const double det = e1x * e2y - e1y * e2x;
+    const double d1 = double(uv[2]) - uv[0], d2 = double(uv[4]) - uv[0];
+    const double gx = (d1 * e2y - d2 * e1y) / det, gy = (d2 * e1x - d1 * e2x) / det;
+    double a = std::atan2(gy, gx) * 180 / 3.14159265358979 + 45;
+    a = a - 90 * std::floor(a / 90) - 45;
+    out.push_back(a);
+  }
+  return out;
+}
+
+TEST(Pack, SourceAxesRunAlongTheAtlas) {
+  // Each patch's source UVs: its layout turned by its own angle (mirrored for
+  // every third patch) and scaled, as a source atlas holds a chart.
+  const GenPrim g = generate(40, 5);
+  std::vector<float> source_uv(g.corner_xy.size());
+  std::mt19937 rng(9);
+  std::vector<double> turn(g.patch_count);
+  for (double& a : turn) a = std::uniform_real_distribution<double>(0, 6.2831853)(rng);
+  for (size_t f = 0; f < g.patch_of_face.size(); ++f) {
+    const uint32_t p = g.patch_of_face[f];
+    const double c = std::cos(turn[p]), s = std::sin(turn[p]), m = p % 3 == 0 ? -1.0 : 1.0;
+    for (int v = 0; v < 3; ++v) {
+      const double x = g.corner_xy[6 * f + 2 * v], y = m * g.corner_xy[6 * f + 2 * v + 1];
+      source_uv[6 * f + 2 * v] = float(0.01 * (c * x - s * y));
+      source_uv[6 * f + 2 * v + 1] = float(0.01 * (s * x + c * y));
+    }
+  }
+  PackPrimitive prim = g.view();
+  prim.source_uv = source_uv;
+  PackOptions opt;
+  opt.texel_scale = 4.0;
+  double worst[2] = {0, 0};
+  for (PatchOrientation o : {PatchOrientation::source_axes, PatchOrientation::min_rectangle}) {
+    opt.orientation = o;
+    PackResult res;
+    ASSERT_EQ(pack_atlas({&prim, 1}, opt, res), PackStatus::ok);
+    EXPECT_EQ(res.report.overlap_texels, 0u);
+    for (double a : source_axis_angles(g, source_uv, res.maps[0]))
+      worst[o == PatchOrientation::min_rectangle] =
+          std::max(worst[o == PatchOrientation::min_rectangle], std::abs(a));
+  }
+  // Within half a rotation code (360 / 256 / 2 degrees) plus rounding.
+  EXPECT_LE(worst[0], 0.71);
+  EXPECT_GT(worst[1], 5.0);  // the rectangle rule ignores the source, so the check can fail
 }
 
 TEST(Pack, TrueShapesBeatRectanglesAndSkyline) {

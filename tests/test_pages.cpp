@@ -123,6 +123,7 @@ TEST(Pages, EstimatedTexelsMatchThePacker) {
                      p.er.methods,
                      p.er.solve,
                      {},
+                     {},
                      {}};
     // The reference as the encoder sets it, near the faces' own densities
     // (the packer clamps each patch's scale to 1/16..8 times it).

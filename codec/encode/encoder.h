@@ -49,7 +49,8 @@ struct EncodeOptions {
   // snaps them back to the palette, and the adaptive density spends its
   // gain in fewer texels.
   bool least_squares_texels = false;
-  bool power_of_two = false;  // atlas sides as powers of two (else multiples of 4)
+  bool power_of_two = false;     // atlas sides as powers of two (else multiples of 4)
+  bool orient_to_source = true;  // --orientation source: patches turned to the source image's axes
   // keep | png | jpeg | webp. WebP (lossy) is written only when asked: the
   // file then requires EXT_texture_webp, which not every viewer reads.
   std::string image_format = "keep";

@@ -168,6 +168,7 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
     p.corner_xy = ip.corner_xy;
     p.reuse_of = ip.reuse_of;
     p.twin_corner = ip.twin_corner;
+    p.source_uv = ip.source_uv;
     p.face_density = density.face_density[k];
     if (k < step_bias.size()) p.scale_step_bias = step_bias[k];
     pp.push_back(p);
@@ -178,6 +179,7 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
   po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
   po.max_atlas_size = options.max_atlas_size;
   po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
+  po.orientation = options.orient_to_source ? PatchOrientation::source_axes : PatchOrientation::min_rectangle;
   if (effort == PackEffort::one_order) po.multi_order_max_patches = 0;
   // Pages by estimate; when a page of several members still overflows (the
   // estimate misses gutters and ragged outlines, which weigh most on small

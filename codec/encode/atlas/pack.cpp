@@ -424,6 +424,33 @@ uint32_t round_size(uint64_t v, SizeRounding r) {
   return uint32_t((v + 3) / 4 * 4);
 }
 
+// The turn that lays the source image's axes along the atlas's: each face's
+// gradients of the source u and v in the patch's layout give the directions
+// the source's columns and rows run in; their angles, taken modulo 90
+// degrees (as 4x angles, weighted by the face's layout area), average to
+// the patch's. False where no face has a usable gradient.
+bool source_axes_angle(const PackPrimitive& pr, std::span<const uint32_t> faces, double& angle) {
+  if (pr.source_uv.size() != pr.corner_xy.size()) return false;
+  double sum_c = 0, sum_s = 0;
+  for (uint32_t f : faces) {
+    const double* c = &pr.corner_xy[6 * size_t{f}];
+    const float* uv = &pr.source_uv[6 * size_t{f}];
+    const double e1x = c[2] - c[0], e1y = c[3] - c[1], e2x = c[4] - c[0], e2y = c[5] - c[1];
+    const double det = e1x * e2y - e1y * e2x;
+    if (!(std::fabs(det) > 0)) continue;
+    for (int t = 0; t < 2; ++t) {  // u, then v
+      const double d1 = double(uv[2 + t]) - uv[t], d2 = double(uv[4 + t]) - uv[t];
+      const double gx = (d1 * e2y - d2 * e1y) / det, gy = (d2 * e1x - d1 * e2x) / det;
+      if (!(std::hypot(gx, gy) > 0)) continue;
+      const double phi = std::atan2(gy, gx), w = std::fabs(det);
+      sum_c += w * std::cos(4 * phi), sum_s += w * std::sin(4 * phi);
+    }
+  }
+  if (!std::isfinite(sum_c + sum_s) || (sum_c == 0 && sum_s == 0)) return false;
+  angle = -std::atan2(sum_s, sum_c) / 4;  // turning by it takes the mean direction to a multiple of 90
+  return true;
+}
+
 }  // namespace
 
 const char* to_string(PackStatus s) {
@@ -568,6 +595,9 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       const double area = (x1 - x0) * (y1 - y0);
       if (area < best) best = area, p.base_code = code;
     }
+    double angle = 0;
+    if (options.orientation == PatchOrientation::source_axes && source_axes_angle(pr, p.faces, angle))
+      p.base_code = rot_code(angle);
   }
   // Per-patch scale from the source's own density: each patch gets its
   // faces' density (an area-weighted quantile, or the texel-count preserving
