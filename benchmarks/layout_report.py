@@ -18,7 +18,8 @@ import re
 import sys
 
 VARIANTS = ("greedy", "unfold", "mixed")
-ATLAS_LINE = re.compile(r"^atlas \d+: (\d+)x(\d+), fill ([0-9.]+)%", re.M)
+# "atlas 0: 400x500, fill 71.3%, ..." or, over pages, "atlas 0: 4096x3428 + 3372x2500, fill 45.5%, ..."
+ATLAS_LINE = re.compile(r"^atlas \d+: (\d+x\d+(?: \+ \d+x\d+)*), fill ([0-9.]+)%", re.M)
 
 
 def row(model, variant, info_path, log_path, t0, t1):
@@ -28,9 +29,10 @@ def row(model, variant, info_path, log_path, t0, t1):
         return None
     tris = sum(p["triangles"] for p in prims)
     texels = fill = 0.0
-    for w, h, f in ATLAS_LINE.findall(open(log_path, errors="replace").read()):
-        texels += int(w) * int(h)
-        fill += int(w) * int(h) * float(f) / 100
+    for pages, f in ATLAS_LINE.findall(open(log_path, errors="replace").read()):
+        area = sum(int(w) * int(h) for w, h in (page.split("x") for page in pages.split(" + ")))
+        texels += area
+        fill += area * float(f) / 100
     return {
         "model": model,
         "variant": variant,
@@ -92,18 +94,22 @@ def table(jsonl, outdir):
             if b is None or r["seam_edges"] < b["seam_edges"]:
                 best[r["model"]] = r
     goals = [
-        ("interior seam edges <= 0.5x greedy", lambda r: r["seams_vs_greedy"] is not None
-         and r["seams_vs_greedy"] <= 0.5),
+        ("interior seam edges <= 0.5x greedy", lambda r: r["seams_vs_greedy"] <= 0.5),
         ("atlas fill >= 75%", lambda r: r["atlas_fill"] is not None and r["atlas_fill"] >= 0.75),
         ("area / rectangle >= 0.7", lambda r: r["rect_fill"] is not None and r["rect_fill"] >= 0.7),
         ("no enclosed holes", lambda r: r["holes"] == 0),
     ]
     md += ["", "Issue 19's goals, on each model's layout with fewer seams (unfold or mixed):", ""]
     for name, met in goals:
-        ok = sorted(m for m, r in best.items() if met(r))
-        missed = sorted(m for m, r in best.items() if not met(r))
-        md.append(f"- {name}: met on {len(ok)} of {len(best)}"
-                  + (f"; not on {', '.join(missed)}" if missed else "") + ".")
+        # A model whose greedy partition has no interior seam (a plane, a
+        # set of quads) has none to halve: the seam goal does not apply.
+        judged = {m: r for m, r in best.items() if "seam" not in name or r["seams_vs_greedy"] is not None}
+        ok = sorted(m for m, r in judged.items() if met(r))
+        missed = sorted(m for m, r in judged.items() if not met(r))
+        md.append(f"- {name}: met on {len(ok)} of {len(judged)}"
+                  + (f"; not on {', '.join(missed)}" if missed else "")
+                  + (f" ({len(best) - len(judged)} models without greedy seams not counted)"
+                     if len(judged) < len(best) else "") + ".")
     md.append("")
     open(os.path.join(outdir, "solve_layout.md"), "w").write("\n".join(md))
     keys = ["model", "variant", "version", "triangles", "patches", "solve_patches", "seam_edges",

@@ -32,7 +32,7 @@ class LayoutReport(unittest.TestCase):
 
     def test_row_weighs_primitives_by_triangles_and_pages_by_texels(self):
         info, log = self.encode("a", [prim(100, 10, 0.9), prim(300, 30, 0.5), prim(50, 0, 0.0, implicit=False)],
-                                "atlas 0: 100x100, fill 80.0%, overlapping\natlas 1: 300x100, fill 40.0%, x\n")
+                                "atlas 0: 100x100, fill 80.0%, overlapping\natlas 1: 200x100 + 100x100, fill 40.0%, x\n")
         r = layout_report.row("m", "unfold", info, log, "1.0", "3.5")
         self.assertEqual(r["seam_edges"], 40)  # the explicit-UV primitive does not count
         self.assertEqual(r["triangles"], 400)
@@ -49,14 +49,18 @@ class LayoutReport(unittest.TestCase):
         for variant, seams, fill in (("greedy", 100, "50.0"), ("unfold", 60, "70.0"), ("mixed", 45, "76.0")):
             info, log = self.encode(variant, [prim(10, seams, 0.72)], f"atlas 0: 10x10, fill {fill}%,\n")
             rows.append(layout_report.row("m", variant, info, log, "0", "1"))
+        for variant in ("greedy", "unfold"):  # a plane: no seam to halve
+            info, log = self.encode("p" + variant, [prim(2, 0, 1.0)], "atlas 0: 10x10, fill 90.0%,\n")
+            rows.append(layout_report.row("plane", variant, info, log, "0", "1"))
         jsonl = os.path.join(self.d, "layout.jsonl")
         open(jsonl, "w").write("\n".join(json.dumps(r) for r in rows) + "\n")
         layout_report.table(jsonl, self.d)
         md = open(os.path.join(self.d, "solve_layout.md")).read()
         self.assertIn("| m | mixed | 1.1 | 3 (0) | 45 | 0.45 | 76.0% | 0.720 |", md)
         self.assertIn("| m | unfold | 1.1 | 3 (0) | 60 | 0.60 |", md)
-        self.assertIn("interior seam edges <= 0.5x greedy: met on 1 of 1.", md)
-        self.assertIn("atlas fill >= 75%: met on 1 of 1.", md)
+        self.assertIn("| plane | unfold | 1.1 | 3 (0) | 0 | - |", md)
+        self.assertIn("interior seam edges <= 0.5x greedy: met on 1 of 1 (1 models without greedy seams", md)
+        self.assertIn("atlas fill >= 75%: met on 2 of 2.", md)
 
 
 if __name__ == "__main__":
