@@ -433,16 +433,13 @@ bool source_axes_angle(const PackPrimitive& pr, std::span<const uint32_t> faces,
   if (pr.source_uv.size() != pr.corner_xy.size()) return false;
   double sum_c = 0, sum_s = 0;
   for (uint32_t f : faces) {
-    const double* c = &pr.corner_xy[6 * size_t{f}];
-    const float* uv = &pr.source_uv[6 * size_t{f}];
-    const double e1x = c[2] - c[0], e1y = c[3] - c[1], e2x = c[4] - c[0], e2y = c[5] - c[1];
-    const double det = e1x * e2y - e1y * e2x;
-    if (!(std::fabs(det) > 0)) continue;
+    double j[4];  // rows: the gradients of u and of v
+    if (!layout_to_source_jacobian(pr.corner_xy, pr.source_uv, f, 1.0, 1.0, j)) continue;
+    const double w = 2 * layout_face_area(pr.corner_xy, f);
     for (int t = 0; t < 2; ++t) {  // u, then v
-      const double d1 = double(uv[2 + t]) - uv[t], d2 = double(uv[4 + t]) - uv[t];
-      const double gx = (d1 * e2y - d2 * e1y) / det, gy = (d2 * e1x - d1 * e2x) / det;
+      const double gx = j[2 * t], gy = j[2 * t + 1];
       if (!(std::hypot(gx, gy) > 0)) continue;
-      const double phi = std::atan2(gy, gx), w = std::fabs(det);
+      const double phi = std::atan2(gy, gx);
       sum_c += w * std::cos(4 * phi), sum_s += w * std::sin(4 * phi);
     }
   }
@@ -570,10 +567,16 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       patches[base[i] + pr.patch_of_face[f]].faces.push_back(f);
     }
   }
-  // Orientation: minimal-area rectangle of each patch's hull, quantized.
+  // Orientation: the source's axes (PatchOrientation), or else the
+  // minimal-area rectangle of each patch's hull, quantized.
   std::vector<Vec2> pts;
   for (PatchInfo& p : patches) {
     const PackPrimitive& pr = prims[p.prim];
+    double angle = 0;
+    if (options.orientation == PatchOrientation::source_axes && source_axes_angle(pr, p.faces, angle)) {
+      p.base_code = rot_code(angle);
+      continue;
+    }
     pts.clear();
     for (uint32_t f : p.faces)
       for (int v = 0; v < 3; ++v)
@@ -595,9 +598,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       const double area = (x1 - x0) * (y1 - y0);
       if (area < best) best = area, p.base_code = code;
     }
-    double angle = 0;
-    if (options.orientation == PatchOrientation::source_axes && source_axes_angle(pr, p.faces, angle))
-      p.base_code = rot_code(angle);
   }
   // Per-patch scale from the source's own density: each patch gets its
   // faces' density (an area-weighted quantile, or the texel-count preserving

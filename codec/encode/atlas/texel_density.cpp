@@ -120,21 +120,29 @@ std::vector<PatchDensity> patch_densities(std::span<const double> corner_xy,
   return out;
 }
 
+bool layout_to_source_jacobian(std::span<const double> corner_xy, std::span<const float> source_uv, size_t f,
+                               double width, double height, double j[4]) {
+  const double* c = &corner_xy[6 * f];
+  const float* u = &source_uv[6 * f];
+  const double e1x = c[2] - c[0], e1y = c[3] - c[1], e2x = c[4] - c[0], e2y = c[5] - c[1];
+  const double det = e1x * e2y - e2x * e1y;
+  if (!(std::abs(det) > 0) || !std::isfinite(det)) return false;
+  const double t1x = (double(u[2]) - u[0]) * width, t1y = (double(u[3]) - u[1]) * height;
+  const double t2x = (double(u[4]) - u[0]) * width, t2y = (double(u[5]) - u[1]) * height;
+  // J = [t1 t2] * inverse([e1 e2]).
+  j[0] = (t1x * e2y - t2x * e1y) / det, j[1] = (t2x * e1x - t1x * e2x) / det;
+  j[2] = (t1y * e2y - t2y * e1y) / det, j[3] = (t2y * e1x - t1y * e2x) / det;
+  return true;
+}
+
 std::vector<double> layout_texel_density(std::span<const double> corner_xy, std::span<const float> source_uv,
                                          uint32_t image_width, uint32_t image_height) {
   const size_t nf = std::min(corner_xy.size(), source_uv.size()) / 6;
   std::vector<double> out(nf, 0.0);
   for (size_t f = 0; f < nf; ++f) {
-    const double* c = &corner_xy[6 * f];
-    const float* u = &source_uv[6 * f];
-    const double e1x = c[2] - c[0], e1y = c[3] - c[1], e2x = c[4] - c[0], e2y = c[5] - c[1];
-    const double det = e1x * e2y - e2x * e1y;
-    if (!(std::abs(det) > 0) || !std::isfinite(det)) continue;
-    const double t1x = (double(u[2]) - u[0]) * image_width, t1y = (double(u[3]) - u[1]) * image_height;
-    const double t2x = (double(u[4]) - u[0]) * image_width, t2y = (double(u[5]) - u[1]) * image_height;
-    // J = [t1 t2] * inverse([e1 e2]).
-    const double a = (t1x * e2y - t2x * e1y) / det, b = (t2x * e1x - t1x * e2x) / det;
-    const double cc = (t1y * e2y - t2y * e1y) / det, d = (t2y * e1x - t1y * e2x) / det;
+    double j[4];
+    if (!layout_to_source_jacobian(corner_xy, source_uv, f, image_width, image_height, j)) continue;
+    const double a = j[0], b = j[1], cc = j[2], d = j[3];
     // Singular values of [[a b] [cc d]]: the largest, and their product |det|.
     const double s1 = a * a + b * b + cc * cc + d * d, s2 = a * d - b * cc;
     const double sigma = std::sqrt(0.5 * (s1 + std::sqrt(std::max(0.0, s1 * s1 - 4 * s2 * s2))));

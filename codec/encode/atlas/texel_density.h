@@ -69,6 +69,13 @@ inline double layout_face_area(std::span<const double> corner_xy, size_t f) {
 std::vector<double> triangle_texel_density(const TriMesh& mesh, std::span<const float> source_uv,
                                            uint32_t image_width, uint32_t image_height);
 
+// The affine map of face f from its layout (corner_xy, 6 per face) to its
+// source texels (source_uv, 6 per face, times width and height):
+// j = {dtx/dx, dtx/dy, dty/dx, dty/dy}. False where the layout face has no
+// area or is not finite.
+bool layout_to_source_jacobian(std::span<const double> corner_xy, std::span<const float> source_uv, size_t f,
+                               double width, double height, double j[4]);
+
 // Texels per layout unit that each face needs to keep its source detail:
 // the geometric mean of the largest singular value of the affine map from
 // the face's layout (corner_xy, 2 per corner) to its source texels
