@@ -110,6 +110,10 @@ Runner add_encode(CLI::App& app) {
       "Let patches cross every source UV seam (fewer seams; the viewer then blends the two source regions "
       "along each crossed seam, which costs quality or texels). By default they cross only the seams the "
       "textures hide (the same colours on both sides)");
+  app.add_flag("!--resample-all", a->opt.align_texels,
+               "Resample every patch. By default a patch whose source map is a similarity (no stretch: a "
+               "box face, a plane) and that keeps about its source's density lands on the source's texel "
+               "grid and keeps its texels exactly, where the atlas is PNG");
   app.add_flag(
       "--least-squares-texels", a->opt.least_squares_texels,
       "Fit the atlas texels so that their bilinear reconstruction best matches the source over the "

@@ -163,6 +163,9 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
     if (a.reused_patches > 0)
       std::printf("  texel reuse: %u patches land on the texels of congruent ones (%.0f texels saved)\n",
                   a.reused_patches, a.reused_texels);
+    if (a.aligned_patches > 0)
+      std::printf("  texel-exact: %u patches hold their source's own texels (not resampled)\n",
+                  a.aligned_patches);
     if (a.mip_psnr[0] > 0)
       std::printf(
           "  by MIP level 0/1/2/3: mean %.1f/%.1f/%.1f/%.1f dB, worst 1%% of the surface %.1f/%.1f/%.1f/%.1f "

@@ -571,8 +571,10 @@ TEST(GeneratedRoundTrip, TiledUvsKeepExplicitUvsBeforeTheWarp) {
 }
 
 // A primitive whose atlas cannot reach the quality floor even at twice the
-// density keeps explicit UVs (VertexColorTest's 1-texel text at arbitrary
-// sub-texel offsets); --always-implicit replaces it anyway.
+// density keeps explicit UVs (VertexColorTest's 1-texel text resampled at
+// arbitrary sub-texel offsets: --resample-all, since by default its flat
+// labels keep their source texels, test_texel_alignment.cpp);
+// --always-implicit replaces it anyway.
 TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
   GLTFWARP_REQUIRE_CORPUS();
   const std::string path = corpus_path("VertexColorTest");
@@ -581,8 +583,8 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
   std::string out;
   for (const bool always : {false, true}) {
     const std::string enc = dir + (always ? "/always.glb" : "/floor.glb");
-    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode " + (always ? "--always-implicit " : "") +
-                              "'" + path + "' -o " + enc + " 2>&1",
+    ASSERT_EQ(run_command(std::string(GLTFWARP_CLI) + " encode --resample-all " +
+                              (always ? "--always-implicit " : "") + "'" + path + "' -o " + enc + " 2>&1",
                           &out),
               0)
         << out;
@@ -597,8 +599,9 @@ TEST(CorpusRoundTrip, QualityFloorFallsBackToExplicitUvs) {
 }
 
 // The report says why a primitive kept explicit UVs as data, not words:
-// VertexColorTest's atlas stays below the quality floor, so its report
-// carries that reason with the figures behind it, and its note the same.
+// VertexColorTest's atlas resampled (--resample-all) stays below the quality
+// floor, so its report carries that reason with the figures behind it, and
+// its note the same.
 TEST(CorpusRoundTrip, FallbackReportCarriesTypedReason) {
   GLTFWARP_REQUIRE_CORPUS();
   const std::string path = corpus_path("VertexColorTest");
@@ -606,7 +609,8 @@ TEST(CorpusRoundTrip, FallbackReportCarriesTypedReason) {
   tinygltf::Model model;
   ASSERT_TRUE(read_gltf(path, model).ok);
   EncodeReport report;
-  const EncodeOptions o;
+  EncodeOptions o;
+  o.align_texels = false;
   ASSERT_EQ(encode_model(model, o, report).message, "");
   size_t fallbacks = 0;
   for (const PrimitiveReport& p : report.primitives) {

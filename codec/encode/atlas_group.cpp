@@ -70,6 +70,23 @@ void largest_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& 
   }
 }
 
+void aligned_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
+                       uint32_t& height) {
+  width = height = 0;
+  uint32_t w = 0, h = 0;
+  for (const auto& s : primitive_uv0_slots(model, prim)) {
+    const int image = texture_image(model, s.texture);
+    int iw = 0, ih = 0;
+    std::string err;
+    if (!image_size(model.images[image].image, iw, ih, err) || iw <= 0 || ih <= 0) return;
+    const auto& m = s.transform;
+    if (m[0] != 1 || m[1] != 0 || m[2] != 0 || m[3] != 0 || m[4] != 1 || m[5] != 0) return;
+    if (w != 0 && (uint32_t(iw) != w || uint32_t(ih) != h)) return;
+    w = uint32_t(iw), h = uint32_t(ih);
+  }
+  width = w, height = h;
+}
+
 namespace {
 
 // The group's primitives get their bitstreams, its materials the atlases.

@@ -101,6 +101,8 @@ struct AtlasReport {
   // texels, and the atlas texels they would have taken of their own.
   uint32_t reused_patches = 0;
   double reused_texels = 0;
+  // Texel-exact patches (texel_alignment.h): on their source's texel grid.
+  uint32_t aligned_patches = 0;
   size_t source_image_bytes = 0, atlas_image_bytes = 0;
   double density_factor = 1;  // times the measured texel density
   double psnr = 0;  // surface PSNR of the warped colour slots, the worst source image's (0: none measured)

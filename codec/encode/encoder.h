@@ -51,6 +51,9 @@ struct EncodeOptions {
   bool least_squares_texels = false;
   bool power_of_two = false;     // atlas sides as powers of two (else multiples of 4)
   bool orient_to_source = true;  // --orientation source: patches turned to the source image's axes
+  // Patches whose source map is a similarity land on the source's texel
+  // grid and keep its texels exactly (texel_alignment.h); false: --resample-all.
+  bool align_texels = true;
   // keep | png | jpeg | webp. WebP (lossy) is written only when asked: the
   // file then requires EXT_texture_webp, which not every viewer reads.
   std::string image_format = "keep";

@@ -121,6 +121,9 @@ struct GroupDensity {
   // Per member, per face: texels per layout unit the source gives it (the
   // tau stretch counts), so the packer can give each patch its own scale step.
   std::vector<std::vector<double>> face_density;
+  // Per member: the one size of every image its TEXCOORD_0 slots sample,
+  // without texture transforms (aligned_uv0_image); 0 x 0: no texel-exact patches.
+  std::vector<std::pair<uint32_t, uint32_t>> align_size;
 };
 GroupDensity choose_density(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                             const EncodeOptions& options, double density_factor);
@@ -163,6 +166,11 @@ std::vector<SlotSource> slot_sources(const tinygltf::Model& model, const AtlasGr
 Error decode_source(const tinygltf::Model& model, int image, SourceImages& sources, SourceImage*& decoded);
 
 // How one slot source is warped and written.
+// The format a warped image is written in: the source's unless asked
+// otherwise (judged by its bytes: a URI image often has no mimeType);
+// formats we do not write (WebP, ...) become PNG.
+std::string output_mime(std::span<const uint8_t> source, const std::string& wanted);
+
 struct SlotCoding {
   WarpOptions warp;
   int gl_wrap_s = 0, gl_wrap_t = 0;

@@ -12,17 +12,14 @@
 #include "format/gltf/gltf_materials.h"
 
 namespace gltfwarp {
-namespace {
-
-// Keep each image's format unless asked otherwise (judged by its bytes: a
-// URI image often has no mimeType); formats we do not write (WebP, ...)
-// become PNG.
 std::string output_mime(std::span<const uint8_t> source, const std::string& wanted) {
   if (wanted == "png") return "image/png";
   if (wanted == "jpeg") return "image/jpeg";
   if (wanted == "webp") return "image/webp";
   return sniff_image_codec(source) == ImageCodec::jpeg ? "image/jpeg" : "image/png";
 }
+
+namespace {
 
 // The palette a warped atlas is written with. "PNG stays PNG" keeps a
 // source's indexed storage too: an indexed source gives its own palette,
@@ -119,6 +116,7 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
   c.mime = output_mime(bytes, options.image_format);
   // Block coders (JPEG, WebP's VP8) code a smooth fill in fewer bytes.
   c.warp.empty_fill = lossy_mime(c.mime) ? EmptyFill::pull_push : EmptyFill::mean;
+  c.warp.copy_exact_texels = !lossy_mime(c.mime);
   c.quality = options.image_quality;
   if (c.quality <= 0) c.quality = estimate_jpeg_quality(bytes);
   if (c.quality <= 0) c.quality = 90;
@@ -169,11 +167,13 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
     // Texel reuse: a copy's faces land on texels its original paints; they
     // paint none of their own (a page no warp produces).
     const UvMap& map = built.maps[k];
-    if (std::any_of(map.placements.begin(), map.placements.end(),
-                    [](const PatchPlacement& pl) { return pl.fine; })) {
+    const auto copy = [&](uint32_t p) {
+      return !ip.reuse_of.empty() && ip.reuse_of[p] >= 0 && map.placements[p].fine;
+    };
+    if (std::any_of(ip.patch_of_face.begin(), ip.patch_of_face.end(), copy)) {
       std::vector<uint32_t> pages(ip.patch_of_face.size(), coding.warp.page);
       for (size_t f = 0; f < pages.size(); ++f)
-        if (map.placements[ip.patch_of_face[f]].fine) pages[f] = UINT32_MAX;
+        if (copy(ip.patch_of_face[f])) pages[f] = UINT32_MAX;
       face_pages.push_back(std::move(pages));
       w.page_of_face = face_pages.back();
     }

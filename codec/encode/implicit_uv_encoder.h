@@ -115,6 +115,12 @@ Error undo_fallen_back_cuts(tinygltf::Model& model, ImplicitPlan& plan, const En
 // primitive can show (primitive_materials: its own and its variants').
 std::vector<TextureSlot> primitive_uv0_slots(const tinygltf::Model& model, const tinygltf::Primitive& prim);
 
+// The size every image primitive_uv0_slots sample shares, when they all
+// have one and no slot has a KHR_texture_transform: the texel grid a patch
+// can land on exactly (texel_alignment.h). 0 x 0 otherwise.
+void aligned_uv0_image(const tinygltf::Model& model, const tinygltf::Primitive& prim, uint32_t& width,
+                       uint32_t& height);
+
 // Largest image (by texel count) that primitive_uv0_slots sample, its size
 // scaled by the slot's KHR_texture_transform (texels per UV unit); 0 x 0
 // when none has a readable size. The partition's density rule and the

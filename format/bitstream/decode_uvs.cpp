@@ -54,6 +54,15 @@ PatchTransform patch_transform(const UvMap& map, const PatchPlacement& pl) {
   return {scale * c, scale * s, x, y, pl.fine && pl.mirror};
 }
 
+}  // namespace
+
+double placement_scale(const UvMap& map, const PatchPlacement& pl) {
+  const PatchTransform t = patch_transform(map, pl);
+  return std::hypot(t.sc, t.ss);
+}
+
+namespace {
+
 // texel = s R p' + (x, y), p' = p or (for a mirrored fine patch) p with its
 // y negated (exactly, sign of zero included).
 inline void corner_texel(const PatchTransform& t, double px, double py, double& tx, double& ty) {

@@ -31,6 +31,9 @@ UvStatus apply_placements(std::span<const double> corner_xy, const UvMap& map, s
 // encoders that measure footprints in texels.
 void placement_texel(const UvMap& map, const PatchPlacement& pl, double px, double py, double& tx,
                      double& ty);
+// Atlas texels per model unit under placement pl (a fine placement's
+// |(cos_q, sin_q)| / 2^15 included).
+double placement_scale(const UvMap& map, const PatchPlacement& pl);
 
 // read_uvmap + layout_patches + apply_placements. On success corner_uv has
 // 6 floats per face and, if map_out is given, *map_out the decoded map.

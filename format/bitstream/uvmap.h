@@ -27,8 +27,9 @@ struct PatchPlacement {
   uint32_t page = 0;       // atlas page, < page_count (0 unless page_count > 1)
   int32_t scale_step = 0;  // per-patch scale code in [kMinScaleStep, kMaxScaleStep], 0 = texel_scale alone
   // Format 1.3, a fine placement: the patch shares texels another patch
-  // already holds (texel reuse), so it must land on them to a fraction of a
-  // texel. Then (cos_q, sin_q) / 2^15 replaces R(rotation) (a rotation, and
+  // already holds (texel reuse), or holds its source's own texels (a
+  // texel-exact patch, codec/encode/atlas/texel_alignment.h), so it must
+  // land on them to a fraction of a texel. Then (cos_q, sin_q) / 2^15 replaces R(rotation) (a rotation, and
   // the small scale that makes two nearly congruent layouts match),
   // (x + x_frac / 256, y + y_frac / 256) the translation, and `mirror`
   // negates the patch-local y first (mirrored halves of a model).

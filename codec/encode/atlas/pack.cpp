@@ -10,6 +10,7 @@
 #include "codec/core/geometry2d.h"
 #include "codec/core/parallel.h"
 #include "codec/encode/atlas/congruent_fit.h"
+#include "codec/encode/atlas/texel_alignment.h"
 #include "codec/encode/atlas/texel_density.h"
 #include "format/bitstream/decode_uvs.h"
 
@@ -30,6 +31,7 @@ constexpr double kEps = 1e-3;  // texels: margin against rounding between encode
 
 struct Mask {
   uint32_t code = 0;
+  int turn = 0;                           // quarter turns: which of PatchInfo::aligned it was built from
   int bx0 = 0, by0 = 0;                   // texel origin of the mask in the rotated, scaled patch frame
   int cw = 0, ch = 0;                     // size in cells
   std::vector<int> bottom, top;           // per cell column: first occupied row, last + 1 (kNone: empty)
@@ -49,6 +51,11 @@ struct PatchInfo {
   uint64_t order_key = 0;
   int32_t copy_of = -1;  // texel reuse: index of the original's PatchInfo (this one is not packed)
   SimilarityFit fit;     // copy's patch-local frame -> original's
+  // Texel-exact (texel_alignment.h): the layout's similarity to its source
+  // texels, when it has one, and whether this attempt's scale aligns it.
+  SimilarityFit source_fit;
+  bool aligned = false;
+  AlignedTransform aligned_at[4];  // per quarter turn of the source image
 };
 
 struct TriRaster {
@@ -131,19 +138,21 @@ void dilate_chebyshev(std::vector<uint8_t>& bits, int tw, int th, int r, std::ve
   }
 }
 
-void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uint32_t code, double scale,
-                int r, int cell, bool true_shape, Mask& m, std::vector<double>& q, std::vector<uint8_t>& bits,
-                std::vector<uint8_t>& tmp) {
-  double c, s;
-  rot_cs(code, c, s);
-  const double sc = scale * c, ss = scale * s;
+// The patch's footprint under texel = (sc, -ss; ss, sc) * p' + (ox, oy), p'
+// = p or (mirror) p with its y negated: as apply_placements, (ox, oy) being
+// the fraction of a texel a fine placement adds to the whole texels the
+// packer chooses.
+void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, double sc, double ss,
+                bool mirror, double ox, double oy, int r, int cell, bool true_shape, Mask& m,
+                std::vector<double>& q, std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
   q.resize(faces.size() * 6);
   double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
   for (size_t k = 0; k < faces.size(); ++k) {
     for (int v = 0; v < 3; ++v) {
       const double x = pr.corner_xy[6 * size_t(faces[k]) + 2 * v];
-      const double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
-      const double qx = sc * x - ss * y, qy = ss * x + sc * y;  // as apply_placements
+      double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
+      if (mirror) y = -y;
+      const double qx = (sc * x - ss * y) + ox, qy = (ss * x + sc * y) + oy;  // as apply_placements
       q[6 * k + 2 * v] = qx;
       q[6 * k + 2 * v + 1] = qy;
       minx = std::min(minx, qx), maxx = std::max(maxx, qx);
@@ -152,7 +161,6 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, uin
   }
   const int fx0 = int(std::floor(minx - kEps)), fx1 = int(std::floor(maxx + kEps));
   const int fy0 = int(std::floor(miny - kEps)), fy1 = int(std::floor(maxy + kEps));
-  m.code = code;
   m.bx0 = fx0 - r;
   m.by0 = fy0 - r;
   const int tw = fx1 - fx0 + 1 + 2 * r, th = fy1 - fy0 + 1 + 2 * r;
@@ -666,6 +674,20 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       copy.scale_step = original.scale_step;
     }
   }
+  // Texel-exact patches: the layout's similarity to the source's texels
+  // (an original of a copy stays coarse: copy_placement builds on it).
+  if (options.align_texels) {
+    std::vector<uint8_t> has_copy(patches.size(), 0);
+    for (const PatchInfo& p : patches)
+      if (p.copy_of >= 0) has_copy[size_t(p.copy_of)] = 1;
+    run_in_parallel(patches.size(), worker_count(patches.size()), [&](size_t pi, size_t) {
+      PatchInfo& p = patches[pi];
+      const PackPrimitive& pr = prims[p.prim];
+      if (p.copy_of >= 0 || has_copy[pi] || pr.align_width == 0 || pr.align_height == 0) return;
+      p.source_fit = fit_texel_alignment(pr.corner_xy, pr.source_uv, p.faces, pr.align_width, pr.align_height,
+                                         options.max_align_residual);
+    });
+  }
   const int r = int((options.gutter + 1) / 2);
   double scale = double(float(options.texel_scale));
   const uint32_t max_size = options.max_atlas_size;
@@ -673,6 +695,22 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     // Rough footprint at this scale (triangle area plus the dilated bounding
     // box rim), to choose the cell and to shrink early.
     int cell = int(options.cell);
+    // Aligned at this scale: asked for at least min_align_density of the
+    // source's density (fewer texels stay a resampling).
+    for (PatchInfo& p : patches) {
+      p.aligned = false;
+      if (!p.source_fit.ok) continue;
+      const double asked = scale * pscale(p.scale_step), density = std::hypot(p.source_fit.a, p.source_fit.b);
+      if (!(asked >= options.min_align_density * density)) continue;
+      p.aligned = true;
+      double extent = 0;  // model units from the patch's origin to its farthest corner
+      for (uint32_t f : p.faces)
+        for (int v = 0; v < 3; ++v)
+          extent = std::max(extent, std::hypot(prims[p.prim].corner_xy[6 * size_t(f) + 2 * v],
+                                               prims[p.prim].corner_xy[6 * size_t(f) + 2 * v + 1]));
+      for (int k = 0; k < 4 && p.aligned; ++k)
+        p.aligned = aligned_transform(p.source_fit, k, scale, extent, p.aligned_at[k]);
+    }
     double texel_area = 0;
     for (const PatchInfo& p : patches) {
       if (p.copy_of >= 0) continue;
@@ -686,7 +724,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
           y0 = std::min(y0, c[2 * v + 1]), y1 = std::max(y1, c[2 * v + 1]);
         }
       }
-      const double ps = scale * pscale(p.scale_step);
+      const double ps = p.aligned ? std::hypot(p.source_fit.a, p.source_fit.b) : scale * pscale(p.scale_step);
       texel_area += area * ps * ps + (x1 - x0 + y1 - y0) * ps * (2 * r + 1) + 4.0 * r * r;
     }
     const double cap = double(max_size) * max_size * options.max_pages;
@@ -710,10 +748,34 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (p.copy_of >= 0) return;
       MaskScratch& sc = scratch[worker];
       p.mask_count = options.rotate_90 ? 4 : 1;
-      for (int k = 0; k < p.mask_count; ++k)
-        build_mask(prims[p.prim], p.faces, (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps,
-                   scale * pscale(p.scale_step), r, cell, options.true_shapes, p.masks[k], sc.q, sc.bits,
-                   sc.tmp);
+      for (int k = 0; k < p.mask_count; ++k) {
+        Mask& m = p.masks[k];
+        m.turn = k;
+        m.code = (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps;
+        if (p.aligned && p.aligned_at[k].coarse) {
+          const AlignedTransform& at = p.aligned_at[k];
+          m.code = at.rotation;
+          double c, s;
+          rot_cs(m.code, c, s);
+          const double unit = scale * pscale(at.scale_step);
+          build_mask(prims[p.prim], p.faces, unit * c, unit * s, false, 0, 0, r, cell, options.true_shapes, m,
+                     sc.q, sc.bits, sc.tmp);
+          continue;
+        }
+        if (p.aligned) {
+          const AlignedTransform& at = p.aligned_at[k];
+          const double unit = scale * pscale(at.scale_step);
+          build_mask(prims[p.prim], p.faces, unit * (double(at.cos_q) * 0x1p-15),
+                     unit * (double(at.sin_q) * 0x1p-15), at.mirror, at.frac_x, at.frac_y, r, cell,
+                     options.true_shapes, m, sc.q, sc.bits, sc.tmp);
+          continue;
+        }
+        double c, s;
+        rot_cs(m.code, c, s);
+        const double unit = scale * pscale(p.scale_step);
+        build_mask(prims[p.prim], p.faces, unit * c, unit * s, false, 0, 0, r, cell, options.true_shapes, m,
+                   sc.q, sc.bits, sc.tmp);
+      }
     });
     uint64_t cell_area = 0;
     for (PatchInfo& p : patches) {
@@ -832,6 +894,27 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       out.y = pl.cy * cell - mk.by0;
       out.page = uint32_t(pl.page);
       out.scale_step = p.scale_step;
+      if (p.aligned) {
+        // The mask holds the fraction already: whole texels here, then the
+        // fraction (k/256 exactly; 1 carries into the whole part).
+        const AlignedTransform& at = p.aligned_at[mk.turn];
+        ++result.report.aligned_patches;
+        if (at.coarse) {  // whole texels: the mask's code and the step
+          out.scale_step = at.scale_step;
+          continue;
+        }
+        out.rotation = 0;
+        out.fine = true;
+        out.mirror = at.mirror;
+        out.cos_q = at.cos_q, out.sin_q = at.sin_q;
+        out.scale_step = at.scale_step;
+        const auto fraction = [](double f, int32_t& whole, uint32_t& frac) {
+          const long long q = std::llround(f * kFineFracSteps);
+          whole += int32_t(q / kFineFracSteps), frac = uint32_t(q % kFineFracSteps);
+        };
+        fraction(at.frac_x, out.x, out.x_frac);
+        fraction(at.frac_y, out.y, out.y_frac);
+      }
     }
     PackReport& rep = result.report;
     for (const PatchInfo& p : patches) {

@@ -53,6 +53,11 @@ struct PackPrimitive {
   // PackOptions::orientation source_axes, each patch turns so that the
   // source image's axes run along the atlas's.
   std::span<const float> source_uv;
+  // Optional: the size of the source image(s) every TEXCOORD_0 slot of the
+  // primitive samples (all one size, no texture transform). With
+  // PackOptions::align_texels, a patch whose source map is a similarity
+  // lands on the source's texel grid (texel_alignment.h). 0: never.
+  uint32_t align_width = 0, align_height = 0;
 };
 
 enum class SizeRounding : uint8_t {
@@ -108,6 +113,15 @@ struct PackOptions {
   // between a copy's corner and its original's corner once fitted. Beyond
   // it the copy is packed as a patch of its own.
   double max_reuse_residual = 0.25;
+  // Texel-exact patches (texel_alignment.h, PackPrimitive::align_width): the
+  // largest distance, in source texels, between a corner's source position
+  // and the similarity's; and the least scale, against the source's
+  // density, a patch must have been given to be aligned instead (an aligned
+  // patch holds the source's density: never fewer texels than asked, at most
+  // 1/min_align_density^2 more).
+  bool align_texels = true;
+  double max_align_residual = 0.02;
+  double min_align_density = 0.9;
   double shrink_factor = 0.92;  // texel scale factor per retry when a page would be too large
   uint32_t max_retries = 60;    // give up (status too_large) after this many shrinks
 };
@@ -124,14 +138,15 @@ struct PackReport {
   uint32_t patch_count = 0;  // over all primitives
   double texel_scale = 0;    // final scale (lower than asked if the atlas had to shrink)
   uint32_t shrink_retries = 0;
-  uint64_t atlas_texels = 0;    // width * height * pages
-  uint64_t covered_texels = 0;  // texels whose centre lies in a placed triangle
-  double fill = 0;              // covered_texels / atlas_texels
-  uint64_t overlap_texels = 0;  // texel centres covered by two different patches (must be 0)
-  uint64_t outside_texels = 0;  // texel centres of placed triangles outside their page (must be 0)
-  uint32_t reused_patches = 0;  // copies placed on their originals' texels (not packed)
-  double reused_texels = 0;     // their area in atlas texels: what reuse saved
-  double seconds = 0;           // wall time of pack_atlas
+  uint64_t atlas_texels = 0;     // width * height * pages
+  uint64_t covered_texels = 0;   // texels whose centre lies in a placed triangle
+  double fill = 0;               // covered_texels / atlas_texels
+  uint64_t overlap_texels = 0;   // texel centres covered by two different patches (must be 0)
+  uint64_t outside_texels = 0;   // texel centres of placed triangles outside their page (must be 0)
+  uint32_t reused_patches = 0;   // copies placed on their originals' texels (not packed)
+  double reused_texels = 0;      // their area in atlas texels: what reuse saved
+  uint32_t aligned_patches = 0;  // patches on their source's texel grid (texel_alignment.h)
+  double seconds = 0;            // wall time of pack_atlas
 };
 
 struct PackResult {

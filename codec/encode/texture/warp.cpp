@@ -62,7 +62,24 @@ struct Tri {
   float dsdx, dtdx, dsdy, dtdy;
   uint32_t prim, face;
   bool magnifies;  // one atlas texel spans at most one source texel
+  // The face lies on the source's texel grid (texel_alignment.h): its map is
+  // a quarter turn or a reflection, one source texel per atlas texel, and
+  // atlas texel centres go to source texel centres. Its texels, and the
+  // gutter texels it owns, copy the source texel under their centres by
+  // its affine map (extended past the face: the gutter then holds what the
+  // source holds beside the face, and a viewer's bilinear filter reads the
+  // same neighbours there as on the source).
+  bool exact;
+  double sx0, sy0, sa, sb, sc, sd;  // source texel = (sx0, sy0) + [sa sb; sc sd] * (atlas - corner 0)
 };
+
+// A 2x2 map that is a signed permutation (a quarter turn or a reflection)
+// to `tol`.
+bool signed_permutation(double a, double b, double c, double d, double tol) {
+  const auto one = [tol](double v) { return std::abs(std::abs(v) - 1) <= tol; };
+  const auto zero = [tol](double v) { return std::abs(v) <= tol; };
+  return (one(a) && one(d) && zero(b) && zero(c)) || (zero(a) && zero(d) && one(b) && one(c));
+}
 
 OIIO::ImageBuf::WrapMode to_imagebuf_wrap(WrapMode w) {
   switch (w) {
@@ -548,6 +565,24 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       tr.dtdx = float(dt1 * i00 + dt2 * i10);
       tr.dtdy = float(dt1 * i01 + dt2 * i11);
       {
+        // Texel-exact: the map in source texels per atlas texel, and where
+        // it sends the centre of the texel under corner 0.
+        tr.sa = (ds1 * i00 + ds2 * i10) * sw, tr.sb = (ds1 * i01 + ds2 * i11) * sw;
+        tr.sc = (dt1 * i00 + dt2 * i10) * sh, tr.sd = (dt1 * i01 + dt2 * i11) * sh;
+        tr.sx0 = tr.s[0] * sw, tr.sy0 = tr.t[0] * sh;
+        // Draco's quantized positions move each face's map by ~1e-4 from
+        // the patch's similarity: the centres under all three corners must
+        // land within 1/20 texel of source texel centres.
+        tr.exact =
+            options.copy_exact_texels && !normal_map && signed_permutation(tr.sa, tr.sb, tr.sc, tr.sd, 1e-3);
+        for (int k = 0; k < 3 && tr.exact; ++k) {
+          const double cx = std::floor(tr.x[k]) + 0.5 - tr.x[0], cy = std::floor(tr.y[k]) + 0.5 - tr.y[0];
+          const double px = tr.sx0 + tr.sa * cx + tr.sb * cy - 0.5,
+                       py = tr.sy0 + tr.sc * cx + tr.sd * cy - 0.5;
+          tr.exact = std::abs(px - std::round(px)) <= 0.05 && std::abs(py - std::round(py)) <= 0.05;
+        }
+      }
+      {
         // Largest stretch of the atlas -> source texel map (its top singular value).
         const double a = double(tr.dsdx) * sw, b = double(tr.dsdy) * sw;
         const double c = double(tr.dtdx) * sh, d = double(tr.dtdy) * sh;
@@ -596,6 +631,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     std::vector<uint8_t> row_out;
   };
   const size_t thread_cap = options.threads > 0 ? size_t(options.threads) : 0;  // 0: every core
+  const auto wrap_s = to_imagebuf_wrap(options.wrap_s), wrap_t = to_imagebuf_wrap(options.wrap_t);
   std::vector<Scratch> scratch(worker_count(size_t(bands), thread_cap));
   for (Scratch& sc : scratch) sc.sum.assign(nch, 0.0), sc.row_out.resize(size_t(W) * nch * (deep ? 2 : 1));
   run_in_parallel(size_t(bands), scratch.size(), [&](size_t band, size_t worker) {
@@ -701,6 +737,25 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           continue;
         }
         const Tri& tr = tris[owner[size_t(oy - e0) * W + ox]];
+        const bool is_cov = ox == x && oy == y;
+        if (tr.exact) {
+          const double dx = x + 0.5 - tr.x[0], dy = y + 0.5 - tr.y[0];
+          const int ix = wrap_texel_index(long(std::floor(tr.sx0 + tr.sa * dx + tr.sb * dy)), sw, wrap_s);
+          const int iy = wrap_texel_index(long(std::floor(tr.sy0 + tr.sc * dx + tr.sd * dy)), sh, wrap_t);
+          source.getpixel(ix, iy, value, nch);
+          ++my_look;
+          for (int c = 0; c < nch; ++c) {  // the source's own encoded values
+            const double q = std::round(std::clamp(double(value[c]), 0.0, 1.0) * qmax);
+            if (deep)
+              reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
+            else
+              dst8[c] = uint8_t(q);
+            if (is_cov) my_sum[c] += q;
+          }
+          kind[size_t(y) * W + x] = is_cov ? 1 : 2;
+          ++(is_cov ? my_cov : my_gut);
+          continue;
+        }
         double bc[3];
         closest_barycentric(tr, ox + 0.5, oy + 0.5, bc);
         const float s = float(bc[0] * tr.s[0] + bc[1] * tr.s[1] + bc[2] * tr.s[2]);
@@ -723,7 +778,6 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           value[1] = float(nn.y * 0.5 + 0.5);
           value[2] = float(nn.z * 0.5 + 0.5);
         }
-        const bool is_cov = ox == x && oy == y;
         for (int c = 0; c < nch; ++c) {
           float v = value[c];
           if (srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));

@@ -81,6 +81,13 @@ struct WarpOptions {
   // that keeps edges sharp, so the viewer's own bilinear pass is the only
   // blur. Minified lookups stay with the texture system's MIP filtering.
   bool cubic_magnification = true;
+  // Faces on the source's texel grid (codec/encode/atlas/texel_alignment.h:
+  // one source texel per atlas texel, a quarter turn or a reflection,
+  // centres on centres) copy the source's texels, and their gutters hold
+  // the source's texels beside them. For lossless atlases: a lossy coder
+  // spends more on the copied gutter than the smoothing dilation (MultiUVTest
+  // as JPEG q70: +6% bytes, -0.2 dB).
+  bool copy_exact_texels = true;
   // Least-squares texels (texel_fit.h): after the point samples, the texels
   // that patches' bilinear reconstruction reaches are solved for, so that
   // what a viewer's bilinear filter shows best matches the source's own

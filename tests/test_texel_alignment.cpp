@@ -1,0 +1,181 @@
+// Texel-exact patches (codec/encode/atlas/texel_alignment.h): where a
+// patch's source map is a similarity, its placement puts every source texel
+// centre on an atlas texel centre, so the warp copies texels instead of
+// resampling them. Checked on the placement arithmetic the decoder runs, and
+// end to end on a generated flat model whose UVs are a turned, scaled copy
+// of its positions over a sharp checker texture.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <random>
+#include <vector>
+
+#include "codec/encode/atlas/texel_alignment.h"
+#include "codec/encode/encoder.h"
+#include "format/bitstream/decode_uvs.h"
+#include "format/gltf/gltf_io.h"
+#include "support/corpus.h"
+#include "support/malformed.h"
+
+namespace gltfwarp {
+namespace {
+
+// Distance from v to the nearest whole number.
+double off_whole(double v) { return std::abs(v - std::round(v)); }
+
+TEST(TexelAlignment, PlacementPutsSourceTexelCentresOnAtlasTexelCentres) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(0, 1);
+  for (int trial = 0; trial < 40; ++trial) {
+    // A patch of random points, its source texels a random similarity of
+    // them (mirrored every other trial).
+    const bool mirror = trial % 2 == 1;
+    const double angle = 6.2831853 * uni(rng), density = 50 + 400 * uni(rng);
+    const double tx = 1000 * uni(rng), ty = 1000 * uni(rng);
+    const uint32_t W = 1024, H = 512;
+    std::vector<double> xy;
+    std::vector<float> uv;
+    std::vector<uint32_t> faces;
+    for (uint32_t f = 0; f < 6; ++f) {
+      faces.push_back(f);
+      for (int v = 0; v < 3; ++v) {
+        const double px = uni(rng), py = uni(rng), my = mirror ? -py : py;
+        xy.push_back(px), xy.push_back(py);
+        const double sx = density * (std::cos(angle) * px - std::sin(angle) * my) + tx;
+        const double sy = density * (std::sin(angle) * px + std::cos(angle) * my) + ty;
+        uv.push_back(float(sx / W)), uv.push_back(float(sy / H));
+      }
+    }
+    const SimilarityFit fit = fit_texel_alignment(xy, uv, faces, W, H, 0.02);
+    ASSERT_TRUE(fit.ok) << "trial " << trial;
+    EXPECT_EQ(fit.mirror, mirror);
+    UvMap map;
+    map.texel_scale = float(density * (0.5 + uni(rng)));
+    map.atlas_width = map.atlas_height = 4096;
+    for (int turn = 0; turn < 4; ++turn) {
+      AlignedTransform at;
+      ASSERT_TRUE(aligned_transform(fit, turn, double(map.texel_scale), 1.5, at));
+      PatchPlacement pl;
+      pl.scale_step = at.scale_step;
+      pl.x = 1000, pl.y = 1000;
+      if (at.coarse) {
+        pl.rotation = at.rotation;
+      } else {
+        pl.fine = true;
+        pl.mirror = at.mirror;
+        pl.cos_q = at.cos_q, pl.sin_q = at.sin_q;
+        pl.x_frac = uint32_t(std::lround(at.frac_x * kFineFracSteps)) % kFineFracSteps;
+        pl.y_frac = uint32_t(std::lround(at.frac_y * kFineFracSteps)) % kFineFracSteps;
+      }
+      // Same density as the source, and each corner's atlas texel position
+      // minus its source texel position (turned) a whole vector: centres
+      // land on centres.
+      EXPECT_NEAR(placement_scale(map, pl), density, density * 1e-4);
+      for (size_t c = 0; c < xy.size() / 2; ++c) {
+        double ax, ay;
+        placement_texel(map, pl, xy[2 * c], xy[2 * c + 1], ax, ay);
+        double sx = double(uv[2 * c]) * W, sy = double(uv[2 * c + 1]) * H;
+        if (mirror) sy = -sy;  // the placement lands on the source reflected across its rows
+        for (int k = 0; k < turn; ++k) std::swap(sx, sy), sx = -sx;
+        EXPECT_LT(off_whole(ax - sx), 0.02) << "trial " << trial << " turn " << turn << " corner " << c;
+        EXPECT_LT(off_whole(ay - sy), 0.02) << "trial " << trial << " turn " << turn << " corner " << c;
+      }
+    }
+  }
+}
+
+TEST(TexelAlignment, StretchedSourceIsNotAligned) {
+  const std::vector<double> xy = {0, 0, 1, 0, 0, 1, 1, 0, 1, 1, 0, 1};
+  std::vector<float> uv;
+  for (size_t i = 0; i < xy.size(); i += 2)
+    uv.push_back(float(0.1 + 0.5 * xy[i])), uv.push_back(float(0.1 + 0.25 * xy[i + 1]));
+  const std::vector<uint32_t> faces = {0, 1};
+  EXPECT_FALSE(fit_texel_alignment(xy, uv, faces, 256, 256, 0.02).ok);  // 128 x 64 texels for a square
+  EXPECT_TRUE(fit_texel_alignment(xy, uv, faces, 256, 512, 0.02).ok);   // 128 x 128
+  EXPECT_FALSE(fit_texel_alignment(xy, uv, faces, 256, 514, 0.02).ok);  // 128 x 128.5
+}
+
+// A flat grid whose UVs are its positions turned by 30 degrees and scaled
+// into the middle of a 256 x 256 checker of 4-texel squares: any
+// resampling smears the squares' edges.
+tinygltf::Model turned_label() {
+  test::MeshSpec grid = test::grid_mesh(6, 4);
+  for (size_t v = 0; v < grid.positions.size() / 3; ++v) {
+    grid.positions[3 * v + 2] = 0;
+    const double x = grid.positions[3 * v] - 0.5, y = grid.positions[3 * v + 1] - 0.5;
+    const double c = std::cos(0.5235988), s = std::sin(0.5235988);
+    grid.uvs[2 * v] = float(0.5 + 0.6 * (c * x - s * y));
+    grid.uvs[2 * v + 1] = float(0.5 + 0.6 * (s * x + c * y));
+  }
+  tinygltf::Model m = test::empty_scene();
+  test::add_primitive(m, grid, test::add_material(m, test::add_texture(m, test::add_png_image(m, 256))));
+  return m;
+}
+
+TEST(TexelAlignment, FlatModelKeepsItsSourceTexels) {
+  double psnr[2] = {0, 0};
+  uint32_t aligned[2] = {0, 0};
+  for (int align = 0; align < 2; ++align) {
+    tinygltf::Model m = turned_label();
+    EncodeOptions o;
+    o.align_texels = align == 1;
+    o.quality_fallback = false;
+    EncodeReport r;
+    ASSERT_EQ(encode_model(m, o, r).message, "");
+    ASSERT_EQ(r.atlases.size(), 1u);
+    psnr[align] = r.atlases[0].psnr;
+    aligned[align] = r.atlases[0].aligned_patches;
+    EXPECT_EQ(r.atlases[0].overlapping_texels, 0u);
+  }
+  std::printf("turned label: %.1f dB resampled, %.1f dB texel-exact (%u patches)\n", psnr[0], psnr[1],
+              aligned[1]);
+  EXPECT_EQ(aligned[0], 0u);
+  EXPECT_GE(aligned[1], 1u);
+  // Copies, not resamplings: only the patch outline (the gutter beyond it)
+  // differs from what the source shows.
+  EXPECT_GE(psnr[1], 50.0);
+  EXPECT_GE(psnr[1], psnr[0] + 6.0);
+}
+
+// VertexColorTest's labels and check marks are flat quads over 256^2 PNGs of
+// 1-texel text. Resampled, no density reaches the quality floor and both
+// primitives keep explicit UVs; texel-exact, each keeps its source texels,
+// and the file is smaller than the explicit-UV one at the floor.
+TEST(TexelAlignment, VertexColorTestLabelsKeepTheirTexels) {
+  GLTFWARP_REQUIRE_CORPUS();
+  std::string path;
+  for (const auto& m : test::corpus_models())
+    if (m.name == "VertexColorTest") path = m.path;
+  ASSERT_FALSE(path.empty()) << "VertexColorTest is not in the corpus";
+  size_t bytes[2] = {0, 0};
+  for (int align = 0; align < 2; ++align) {
+    tinygltf::Model model;
+    ASSERT_TRUE(read_gltf(path, model).ok);
+    EncodeOptions o;
+    o.align_texels = align == 1;
+    EncodeReport r;
+    ASSERT_EQ(encode_model(model, o, r).message, "");
+    size_t implicit = 0;
+    for (const PrimitiveReport& p : r.primitives) implicit += p.handling == Handling::implicit_uv;
+    if (align == 0) {
+      EXPECT_EQ(implicit, 0u) << "resampled, every primitive falls back";
+    } else {
+      EXPECT_EQ(implicit, 2u);
+      for (const AtlasReport& a : r.atlases) {
+        EXPECT_GE(a.aligned_patches, 1u);
+        EXPECT_GE(a.psnr, 55.0);
+        EXPECT_EQ(a.overlapping_texels, 0u);
+      }
+    }
+    const std::string out = test::scratch_dir("texel-exact") + (align ? "/exact.glb" : "/resampled.glb");
+    ASSERT_EQ(write_gltf(model, out), "");
+    bytes[align] = std::filesystem::file_size(out);
+  }
+  std::printf("VertexColorTest: %zu bytes texel-exact, %zu resampled (explicit UVs)\n", bytes[1], bytes[0]);
+  EXPECT_LT(bytes[1], bytes[0]);
+}
+
+}  // namespace
+}  // namespace gltfwarp
