@@ -64,7 +64,6 @@ TEST(TexelAlignment, PlacementPutsSourceTexelCentresOnAtlasTexelCentres) {
         pl.rotation = at.rotation;
       } else {
         pl.fine = true;
-        pl.mirror = at.mirror;
         pl.cos_q = at.cos_q, pl.sin_q = at.sin_q;
         pl.x_frac = uint32_t(std::lround(at.frac_x * kFineFracSteps)) % kFineFracSteps;
         pl.y_frac = uint32_t(std::lround(at.frac_y * kFineFracSteps)) % kFineFracSteps;

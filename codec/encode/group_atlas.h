@@ -114,6 +114,13 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
 void number_patches(const ImplicitPlan& plan, const AtlasGroup& group, GroupAtlas& out);
 
 // Texel density: keep the source's detail (largest image each member samples).
+// Texel reuse: patch p of ip is a copy, placed (fine) on its original's
+// texels; it paints and takes none of its own. A fine placement alone is
+// no copy: texel-exact patches are fine too (texel_alignment.h).
+inline bool is_texel_copy(const ImplicitPrimitive& ip, const UvMap& map, uint32_t p) {
+  return !ip.reuse_of.empty() && ip.reuse_of[p] >= 0 && map.placements[p].fine;
+}
+
 struct GroupDensity {
   double factor = 1;     // asked: times the measured density
   double scale = 0;      // texels per layout unit the packer is asked for

@@ -167,9 +167,7 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
     // Texel reuse: a copy's faces land on texels its original paints; they
     // paint none of their own (a page no warp produces).
     const UvMap& map = built.maps[k];
-    const auto copy = [&](uint32_t p) {
-      return !ip.reuse_of.empty() && ip.reuse_of[p] >= 0 && map.placements[p].fine;
-    };
+    const auto copy = [&](uint32_t p) { return is_texel_copy(ip, map, p); };
     if (std::any_of(ip.patch_of_face.begin(), ip.patch_of_face.end(), copy)) {
       std::vector<uint32_t> pages(ip.patch_of_face.size(), coding.warp.page);
       for (size_t f = 0; f < pages.size(); ++f)

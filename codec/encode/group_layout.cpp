@@ -245,7 +245,7 @@ Error write_streams(ImplicitPlan& plan, const AtlasGroup& group, const EncodeOpt
     for (size_t f = 0; f < ip.patch_of_face.size(); ++f) {
       // A copy on its original's texels adds none (texel reuse).
       const uint32_t p = ip.patch_of_face[f];
-      if (!ip.reuse_of.empty() && ip.reuse_of[p] >= 0 && map.placements[p].fine) continue;
+      if (is_texel_copy(ip, map, p)) continue;
       const double s = placement_scale(map, map.placements[p]);
       out.patch_texels[out.group_patch[k][f]] += layout_face_area(ip.corner_xy, f) * s * s;
     }

@@ -31,7 +31,6 @@ constexpr double kEps = 1e-3;  // texels: margin against rounding between encode
 
 struct Mask {
   uint32_t code = 0;
-  int turn = 0;                           // quarter turns: which of PatchInfo::aligned it was built from
   int bx0 = 0, by0 = 0;                   // texel origin of the mask in the rotated, scaled patch frame
   int cw = 0, ch = 0;                     // size in cells
   std::vector<int> bottom, top;           // per cell column: first occupied row, last + 1 (kNone: empty)
@@ -54,6 +53,7 @@ struct PatchInfo {
   // Texel-exact (texel_alignment.h): the layout's similarity to its source
   // texels, when it has one, and whether this attempt's scale aligns it.
   SimilarityFit source_fit;
+  double extent = 0;  // model units from the patch's origin to its farthest corner
   bool aligned = false;
   AlignedTransform aligned_at[4];  // per quarter turn of the source image
 };
@@ -138,20 +138,18 @@ void dilate_chebyshev(std::vector<uint8_t>& bits, int tw, int th, int r, std::ve
   }
 }
 
-// The patch's footprint under texel = (sc, -ss; ss, sc) * p' + (ox, oy), p'
-// = p or (mirror) p with its y negated: as apply_placements, (ox, oy) being
-// the fraction of a texel a fine placement adds to the whole texels the
-// packer chooses.
-void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, double sc, double ss,
-                bool mirror, double ox, double oy, int r, int cell, bool true_shape, Mask& m,
-                std::vector<double>& q, std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
+// The patch's footprint under texel = (sc, -ss; ss, sc) * p + (ox, oy), as
+// apply_placements, (ox, oy) being the fraction of a texel a fine placement
+// adds to the whole texels the packer chooses.
+void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, double sc, double ss, double ox,
+                double oy, int r, int cell, bool true_shape, Mask& m, std::vector<double>& q,
+                std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
   q.resize(faces.size() * 6);
   double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
   for (size_t k = 0; k < faces.size(); ++k) {
     for (int v = 0; v < 3; ++v) {
       const double x = pr.corner_xy[6 * size_t(faces[k]) + 2 * v];
-      double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
-      if (mirror) y = -y;
+      const double y = pr.corner_xy[6 * size_t(faces[k]) + 2 * v + 1];
       const double qx = (sc * x - ss * y) + ox, qy = (ss * x + sc * y) + oy;  // as apply_placements
       q[6 * k + 2 * v] = qx;
       q[6 * k + 2 * v + 1] = qy;
@@ -686,6 +684,11 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (p.copy_of >= 0 || has_copy[pi] || pr.align_width == 0 || pr.align_height == 0) return;
       p.source_fit = fit_texel_alignment(pr.corner_xy, pr.source_uv, p.faces, pr.align_width, pr.align_height,
                                          options.max_align_residual);
+      if (!p.source_fit.ok) return;
+      for (uint32_t f : p.faces)
+        for (int v = 0; v < 3; ++v)
+          p.extent = std::max(p.extent, std::hypot(pr.corner_xy[6 * size_t(f) + 2 * v],
+                                                   pr.corner_xy[6 * size_t(f) + 2 * v + 1]));
     });
   }
   const int r = int((options.gutter + 1) / 2);
@@ -703,13 +706,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       const double asked = scale * pscale(p.scale_step), density = std::hypot(p.source_fit.a, p.source_fit.b);
       if (!(asked >= options.min_align_density * density)) continue;
       p.aligned = true;
-      double extent = 0;  // model units from the patch's origin to its farthest corner
-      for (uint32_t f : p.faces)
-        for (int v = 0; v < 3; ++v)
-          extent = std::max(extent, std::hypot(prims[p.prim].corner_xy[6 * size_t(f) + 2 * v],
-                                               prims[p.prim].corner_xy[6 * size_t(f) + 2 * v + 1]));
       for (int k = 0; k < 4 && p.aligned; ++k)
-        p.aligned = aligned_transform(p.source_fit, k, scale, extent, p.aligned_at[k]);
+        p.aligned = aligned_transform(p.source_fit, k, scale, p.extent, p.aligned_at[k]);
     }
     double texel_area = 0;
     for (const PatchInfo& p : patches) {
@@ -750,31 +748,22 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       p.mask_count = options.rotate_90 ? 4 : 1;
       for (int k = 0; k < p.mask_count; ++k) {
         Mask& m = p.masks[k];
-        m.turn = k;
-        m.code = (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps;
-        if (p.aligned && p.aligned_at[k].coarse) {
-          const AlignedTransform& at = p.aligned_at[k];
-          m.code = at.rotation;
-          double c, s;
-          rot_cs(m.code, c, s);
-          const double unit = scale * pscale(at.scale_step);
-          build_mask(prims[p.prim], p.faces, unit * c, unit * s, false, 0, 0, r, cell, options.true_shapes, m,
-                     sc.q, sc.bits, sc.tmp);
-          continue;
-        }
-        if (p.aligned) {
-          const AlignedTransform& at = p.aligned_at[k];
+        const AlignedTransform& at = p.aligned_at[k];
+        if (p.aligned && !at.coarse) {
+          m.code = 0;  // a fine placement writes rotation 0
           const double unit = scale * pscale(at.scale_step);
           build_mask(prims[p.prim], p.faces, unit * (double(at.cos_q) * 0x1p-15),
-                     unit * (double(at.sin_q) * 0x1p-15), at.mirror, at.frac_x, at.frac_y, r, cell,
-                     options.true_shapes, m, sc.q, sc.bits, sc.tmp);
+                     unit * (double(at.sin_q) * 0x1p-15), at.frac_x, at.frac_y, r, cell, options.true_shapes,
+                     m, sc.q, sc.bits, sc.tmp);
           continue;
         }
+        // A coarse placement: the patch's own turn and step, or the aligned ones.
+        m.code = p.aligned ? at.rotation : (p.base_code + uint32_t(k) * (kRotSteps / 4)) % kRotSteps;
         double c, s;
         rot_cs(m.code, c, s);
-        const double unit = scale * pscale(p.scale_step);
-        build_mask(prims[p.prim], p.faces, unit * c, unit * s, false, 0, 0, r, cell, options.true_shapes, m,
-                   sc.q, sc.bits, sc.tmp);
+        const double unit = scale * pscale(p.aligned ? at.scale_step : p.scale_step);
+        build_mask(prims[p.prim], p.faces, unit * c, unit * s, 0, 0, r, cell, options.true_shapes, m, sc.q,
+                   sc.bits, sc.tmp);
       }
     });
     uint64_t cell_area = 0;
@@ -897,15 +886,13 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (p.aligned) {
         // The mask holds the fraction already: whole texels here, then the
         // fraction (k/256 exactly; 1 carries into the whole part).
-        const AlignedTransform& at = p.aligned_at[mk.turn];
+        const AlignedTransform& at = p.aligned_at[pl.mask];
         ++result.report.aligned_patches;
         if (at.coarse) {  // whole texels: the mask's code and the step
           out.scale_step = at.scale_step;
           continue;
         }
-        out.rotation = 0;
         out.fine = true;
-        out.mirror = at.mirror;
         out.cos_q = at.cos_q, out.sin_q = at.sin_q;
         out.scale_step = at.scale_step;
         const auto fraction = [](double f, int32_t& whole, uint32_t& frac) {

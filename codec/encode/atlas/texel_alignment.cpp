@@ -58,7 +58,6 @@ bool aligned_transform(const SimilarityFit& fit, int turn, double scale, double 
     if (c == 0 && s == 0) return false;
     out.scale_step = step;
     out.cos_q = int32_t(c), out.sin_q = int32_t(s);
-    out.mirror = false;
     // atlas = i^turn (source - t) + X lands texel centres on texel centres
     // when X - i^turn t is whole: a quarter turn maps the lattice of
     // centres, (1/2, 1/2) + Z^2, onto itself.

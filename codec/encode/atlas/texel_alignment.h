@@ -40,8 +40,7 @@ SimilarityFit fit_texel_alignment(std::span<const double> corner_xy, std::span<c
 // scale range.
 struct AlignedTransform {
   int32_t scale_step = 0;
-  int32_t cos_q = 0, sin_q = 0;
-  bool mirror = false;
+  int32_t cos_q = 0, sin_q = 0;  // never mirrored (a reflection is a turn of the lattice)
   double frac_x = 0, frac_y = 0;
   bool coarse = false;
   uint32_t rotation = 0;

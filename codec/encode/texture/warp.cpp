@@ -738,14 +738,10 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
         }
         const Tri& tr = tris[owner[size_t(oy - e0) * W + ox]];
         const bool is_cov = ox == x && oy == y;
-        if (tr.exact) {
-          const double dx = x + 0.5 - tr.x[0], dy = y + 0.5 - tr.y[0];
-          const int ix = wrap_texel_index(long(std::floor(tr.sx0 + tr.sa * dx + tr.sb * dy)), sw, wrap_s);
-          const int iy = wrap_texel_index(long(std::floor(tr.sy0 + tr.sc * dx + tr.sd * dy)), sh, wrap_t);
-          source.getpixel(ix, iy, value, nch);
-          ++my_look;
-          for (int c = 0; c < nch; ++c) {  // the source's own encoded values
-            const double q = std::round(std::clamp(double(value[c]), 0.0, 1.0) * qmax);
+        // Writes the texel's values (in [0, 1], as the atlas stores them).
+        const auto store = [&](const float* v) {
+          for (int c = 0; c < nch; ++c) {
+            const double q = std::round(std::clamp(double(v[c]), 0.0, 1.0) * qmax);
             if (deep)
               reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
             else
@@ -754,6 +750,14 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           }
           kind[size_t(y) * W + x] = is_cov ? 1 : 2;
           ++(is_cov ? my_cov : my_gut);
+        };
+        if (tr.exact) {
+          const double dx = x + 0.5 - tr.x[0], dy = y + 0.5 - tr.y[0];
+          const int ix = wrap_texel_index(long(std::floor(tr.sx0 + tr.sa * dx + tr.sb * dy)), sw, wrap_s);
+          const int iy = wrap_texel_index(long(std::floor(tr.sy0 + tr.sc * dx + tr.sd * dy)), sh, wrap_t);
+          source.getpixel(ix, iy, value, nch);
+          ++my_look;
+          store(value);  // the source's own encoded values
           continue;
         }
         double bc[3];
@@ -778,21 +782,9 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           value[1] = float(nn.y * 0.5 + 0.5);
           value[2] = float(nn.z * 0.5 + 0.5);
         }
-        for (int c = 0; c < nch; ++c) {
-          float v = value[c];
-          if (srgb && is_color_channel(c, nch)) v = linear_to_srgb(std::max(v, 0.0f));
-          const double q = std::round(std::clamp(double(v), 0.0, 1.0) * qmax);
-          if (deep)
-            reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
-          else
-            dst8[c] = uint8_t(q);
-          if (is_cov) my_sum[c] += q;
-        }
-        kind[size_t(y) * W + x] = is_cov ? 1 : 2;
-        if (is_cov)
-          ++my_cov;
-        else
-          ++my_gut;
+        for (int c = 0; c < nch; ++c)
+          if (srgb && is_color_channel(c, nch)) value[c] = linear_to_srgb(std::max(value[c], 0.0f));
+        store(value);
       }
       // Empty texels get written later (mean colour); copy the row now.
       uint8_t* base = static_cast<uint8_t*>(out.localpixels());
