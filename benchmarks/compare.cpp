@@ -42,6 +42,7 @@
 //
 // Output: one JSON object on stdout. Errors: a line on stderr, exit 1.
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -460,6 +461,31 @@ std::vector<uint8_t> read_view(const tinygltf::Model& m, int view) {
   return {buf.begin() + bv.byteOffset, buf.begin() + bv.byteOffset + bv.byteLength};
 }
 
+// "ours jpeg q85" -> "ours_jpeg_q85": a setting as a file name.
+std::string file_stem(std::string s) {
+  for (char& c : s)
+    if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+  return s;
+}
+
+// The reference frame (once per view), the point's frame, and their error
+// magnified 8x, as sRGB PNGs a person can look at.
+void save_frame_pair(const std::string& stem, const std::string& point, const bench::Frame& reference,
+                     const bench::Frame& decoded) {
+  const int n = reference.size;
+  const std::vector<uint8_t> a = bench::frame_srgb8(reference), b = bench::frame_srgb8(decoded);
+  std::vector<uint8_t> err(a.size());
+  for (size_t i = 0; i < a.size(); ++i) err[i] = uint8_t(std::min(255, 8 * std::abs(int(a[i]) - int(b[i]))));
+  const OIIO::ImageSpec spec(n, n, 3, OIIO::TypeDesc::UINT8);
+  auto write = [&](const std::vector<uint8_t>& px, const std::string& path) {
+    OIIO::ImageBuf buf(spec, const_cast<uint8_t*>(px.data()));
+    if (!buf.write(path)) std::fprintf(stderr, "compare: cannot write %s\n", path.c_str());
+  };
+  if (!fs::exists(stem + "reference.png")) write(a, stem + "reference.png");
+  write(b, stem + point + ".png");
+  write(err, stem + point + "_error.png");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -489,10 +515,15 @@ int main(int argc, char** argv) {
          "its charts, so the source's own chart bleed at minified levels counts against no encoding), "
          "or source (as it is)")
       ->check(CLI::IsMember({"filled", "source"}));
+  std::string save_renders;
+  app.add_option("--save-renders", save_renders,
+                 "Write every rendered view as PNG into this directory: the reference, each point's render, "
+                 "and its error (|difference| x 8)");
   std::vector<int> ladder = {10, 20, 30, 50, 70, 85, 95};
   app.add_option("--jpeg-ladder", ladder, "JPEG qualities of both curves")->check(CLI::Range(1, 100));
   CLI11_PARSE(app, argc, argv);
   fs::create_directories(work);
+  if (!save_renders.empty()) fs::create_directories(save_renders);
 
   const tinygltf::Model src = load(input);
   json out;
@@ -719,7 +750,14 @@ int main(int argc, char** argv) {
       const bench::Scene dec_scene(dec);
       for (int size : {render_size, render_small}) {
         if (size <= 0) continue;
-        const bench::RenderComparison rc = bench::compare_renders(*src_scene, dec_scene, size);
+        bench::FrameSink sink;
+        if (!save_renders.empty())
+          sink = [&](size_t view, const bench::Frame& a, const bench::Frame& b) {
+            const std::string stem =
+                save_renders + "/" + std::to_string(size) + "_v" + std::to_string(view) + "_";
+            save_frame_pair(stem, file_stem(curve + " " + setting), a, b);
+          };
+        const bench::RenderComparison rc = bench::compare_renders(*src_scene, dec_scene, size, sink);
         const std::string k = size == render_size ? "render" : "render_small";
         pt["psnr_" + k] = rc.psnr();
         pt[k + "_pixels"] = rc.pixels;

@@ -407,14 +407,27 @@ struct RenderComparison {
   }
 };
 
+// A frame as a display shows it: sRGB 8-bit RGB, background black.
+inline std::vector<uint8_t> frame_srgb8(const Frame& f) {
+  std::vector<uint8_t> px(f.rgb.size());
+  for (size_t i = 0; i < px.size(); ++i) px[i] = uint8_t(std::lround(to_srgb8(f.rgb[i])));
+  return px;
+}
+
+// Called with each view's index and both frames (to look at a render: compare --save-renders).
+using FrameSink = std::function<void(size_t view, const Frame& source, const Frame& decoded)>;
+
 // Renders `source` and `decoded` from every default view at `size` pixels,
 // with the cameras of the source, and compares the foreground.
-inline RenderComparison compare_renders(const Scene& source, const Scene& decoded, int size) {
+inline RenderComparison compare_renders(const Scene& source, const Scene& decoded, int size,
+                                        const FrameSink& sink = {}) {
   RenderComparison r;
   if (source.empty() || decoded.empty()) return r;
-  for (const View& v : default_views()) {
-    const Camera cam = source.camera(v, size);
+  const std::vector<View> views = default_views();
+  for (size_t view = 0; view < views.size(); ++view) {
+    const Camera cam = source.camera(views[view], size);
     const Frame a = source.render(cam, size), b = decoded.render(cam, size);
+    if (sink) sink(view, a, b);
     for (size_t i = 0; i < a.lod.size(); ++i) {
       if (a.lod[i] < 0 || b.lod[i] < 0) continue;
       double e = 0;

@@ -38,6 +38,7 @@ struct Mask {
   std::vector<std::pair<int, int>> runs;  // occupied cell columns [first, last + 1) of a row
   std::vector<int> widest;                // per cell row: its widest run
   uint64_t cells = 0;
+  int step = 1;  // positions (in cells) on multiples of this: MIP blocks of an aligned patch
 };
 
 struct PatchInfo {
@@ -141,9 +142,12 @@ void dilate_chebyshev(std::vector<uint8_t>& bits, int tw, int th, int r, std::ve
 // The patch's footprint under texel = (sc, -ss; ss, sc) * p + (ox, oy), as
 // apply_placements, (ox, oy) being the fraction of a texel a fine placement
 // adds to the whole texels the packer chooses.
+// block > 1 (an aligned patch's MIP blocks, mip_block_residue): the mask's
+// origin moves back so that a position on multiples of the block (m.step
+// cells) gives the whole-texel position that lines the blocks up.
 void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, double sc, double ss, double ox,
-                double oy, int r, int cell, bool true_shape, Mask& m, std::vector<double>& q,
-                std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
+                double oy, int r, int cell, bool true_shape, const BlockResidue& residue, int block, Mask& m,
+                std::vector<double>& q, std::vector<uint8_t>& bits, std::vector<uint8_t>& tmp) {
   q.resize(faces.size() * 6);
   double minx = 1e300, miny = 1e300, maxx = -1e300, maxy = -1e300;
   for (size_t k = 0; k < faces.size(); ++k) {
@@ -159,9 +163,15 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, dou
   }
   const int fx0 = int(std::floor(minx - kEps)), fx1 = int(std::floor(maxx + kEps));
   const int fy0 = int(std::floor(miny - kEps)), fy1 = int(std::floor(maxy + kEps));
-  m.bx0 = fx0 - r;
-  m.by0 = fy0 - r;
-  const int tw = fx1 - fx0 + 1 + 2 * r, th = fy1 - fy0 + 1 + 2 * r;
+  // Whole position = cell * cx - bx0 = residue (mod block) when block divides cell * cx.
+  const auto shift = [&](int start, int want) {
+    return block > 1 ? ((start + want) % block + block) % block : 0;
+  };
+  const int lead_x = r + shift(fx0 - r, residue.x), lead_y = r + shift(fy0 - r, residue.y);
+  m.bx0 = fx0 - lead_x;
+  m.by0 = fy0 - lead_y;
+  m.step = block > cell ? block / cell : 1;
+  const int tw = fx1 - fx0 + 1 + lead_x + r, th = fy1 - fy0 + 1 + lead_y + r;
   bits.assign(size_t(tw) * th, 0);
   for (size_t k = 0; k < faces.size(); ++k)
     TriRaster::conservative(q[6 * k] - m.bx0, q[6 * k + 1] - m.by0, q[6 * k + 2] - m.bx0,
@@ -268,7 +278,8 @@ struct Bitmap {
 // Lowest (then leftmost) position where mask m fits, or false.
 bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_from, int y_limit) {
   if (m.cw > bm.wc) return false;
-  for (int y = y_from; y + m.ch <= bm.hc && y < y_limit; ++y) {
+  const auto up = [&](int v) { return (v + m.step - 1) / m.step * m.step; };
+  for (int y = up(y_from); y + m.ch <= bm.hc && y < y_limit; y += m.step) {
     if (y >= bm.used_rows) {  // everything below is free
       out_x = 0, out_y = y;
       return true;
@@ -288,7 +299,7 @@ bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_f
         for (int k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
           const int p = bm.first_set(yy, x + m.runs[k].first, x + m.runs[k].second);
           if (p >= 0) {  // skip the whole occupied run that starts at p
-            x = std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first);
+            x = up(std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first));
             hit = true;
             last = r;
             break;
@@ -332,10 +343,11 @@ bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint3
       for (int mi = 0; mi < p.mask_count; ++mi) {
         const Mask& m = p.masks[mi];
         if (m.cw > wc || m.ch > hc_max) continue;
-        for (int x = 0; x + m.cw <= wc; ++x) {
+        for (int x = 0; x + m.cw <= wc; x += m.step) {
           int y = 0;
           for (int c = 0; c < m.cw; ++c)
             if (m.bottom[c] != kNone) y = std::max(y, sky[x + c] - m.bottom[c]);
+          y = (y + m.step - 1) / m.step * m.step;
           if (y + m.ch > hc_max || (long long)y * m.cw >= best_score) continue;
           long long waste = 0;
           int top = 0;
@@ -692,6 +704,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     });
   }
   const int r = int((options.gutter + 1) / 2);
+  const int block = int(std::max<uint32_t>(1, options.align_mip_block));
   double scale = double(float(options.texel_scale));
   const uint32_t max_size = options.max_atlas_size;
   for (uint32_t attempt = 0; attempt <= options.max_retries; ++attempt) {
@@ -752,9 +765,10 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
         if (p.aligned && !at.coarse) {
           m.code = 0;  // a fine placement writes rotation 0
           const double unit = scale * pscale(at.scale_step);
-          build_mask(prims[p.prim], p.faces, unit * (double(at.cos_q) * 0x1p-15),
-                     unit * (double(at.sin_q) * 0x1p-15), at.frac_x, at.frac_y, r, cell, options.true_shapes,
-                     m, sc.q, sc.bits, sc.tmp);
+          const double fc = unit * (double(at.cos_q) * 0x1p-15), fs = unit * (double(at.sin_q) * 0x1p-15);
+          build_mask(prims[p.prim], p.faces, fc, fs, at.frac_x, at.frac_y, r, cell, options.true_shapes,
+                     mip_block_residue(p.source_fit, fc, fs, at.frac_x, at.frac_y, block), block, m, sc.q,
+                     sc.bits, sc.tmp);
           continue;
         }
         // A coarse placement: the patch's own turn and step, or the aligned ones.
@@ -762,8 +776,9 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
         double c, s;
         rot_cs(m.code, c, s);
         const double unit = scale * pscale(p.aligned ? at.scale_step : p.scale_step);
-        build_mask(prims[p.prim], p.faces, unit * c, unit * s, 0, 0, r, cell, options.true_shapes, m, sc.q,
-                   sc.bits, sc.tmp);
+        const int b = p.aligned ? block : 1;
+        build_mask(prims[p.prim], p.faces, unit * c, unit * s, 0, 0, r, cell, options.true_shapes,
+                   mip_block_residue(p.source_fit, unit * c, unit * s, 0, 0, b), b, m, sc.q, sc.bits, sc.tmp);
       }
     });
     uint64_t cell_area = 0;

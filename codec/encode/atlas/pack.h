@@ -122,6 +122,10 @@ struct PackOptions {
   bool align_texels = true;
   double max_align_residual = 0.02;
   double min_align_density = 0.9;
+  // An aligned patch's whole-texel position lines its MIP blocks up with
+  // the source's (mip_block_residue) up to blocks of this many texels (a
+  // power of 2; 4: levels 1 and 2, what a minified view samples most). 1: off.
+  uint32_t align_mip_block = 4;
   double shrink_factor = 0.92;  // texel scale factor per retry when a page would be too large
   uint32_t max_retries = 60;    // give up (status too_large) after this many shrinks
 };

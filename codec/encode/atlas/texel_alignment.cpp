@@ -85,4 +85,28 @@ bool aligned_transform(const SimilarityFit& fit, int turn, double scale, double 
   return false;
 }
 
+BlockResidue mip_block_residue(const SimilarityFit& fit, double sc, double ss, double ox, double oy,
+                               int block) {
+  // source = G p + t, G = [a -b; b a] M; mask frame q = R p + o. So q = Q (source - t) + o with
+  // Q = R G^-1, a signed permutation for an aligned patch (both at the source's density).
+  const double a = fit.a, b = fit.b, n = a * a + b * b;
+  if (!(n > 0) || block <= 1) return {};
+  // G^-1 = M [a b; -b a] / n (M is its own inverse).
+  double gi[4] = {a / n, b / n, -b / n, a / n};
+  if (fit.mirror) gi[2] = -gi[2], gi[3] = -gi[3];
+  const double q[4] = {sc * gi[0] - ss * gi[2], sc * gi[1] - ss * gi[3], ss * gi[0] + sc * gi[2],
+                       ss * gi[1] + sc * gi[3]};
+  // Source texel (0, 0)'s centre in the mask frame: atlas texel index c + whole position.
+  const double sx = 0.5 - fit.tx, sy = 0.5 - fit.ty;
+  const double cx = std::floor(q[0] * sx + q[1] * sy + ox), cy = std::floor(q[2] * sx + q[3] * sy + oy);
+  // Along an atlas axis the source's texels run i -> c + i (sign +) or c - i:
+  // blocks line up when c = 0, or c = block - 1, (mod block).
+  const auto sign = [](double u, double v) { return std::abs(u) >= std::abs(v) ? u : v; };
+  const auto residue = [&](double c, double dir) {
+    const long long want = dir > 0 ? 0 : block - 1;
+    return int(((want - (long long)c) % block + block) % block);
+  };
+  return {residue(cx, sign(q[0], q[1])), residue(cy, sign(q[2], q[3]))};
+}
+
 }  // namespace gltfwarp

@@ -48,4 +48,19 @@ struct AlignedTransform {
 bool aligned_transform(const SimilarityFit& fit, int turn, double scale, double extent,
                        AlignedTransform& out);
 
+// MIP blocks. A viewer minifies through a pyramid of 2x2 box filters: texel
+// j of level k averages texels [2^k j, 2^k (j + 1)) of level 0. An aligned
+// patch's texels are the source's, but its level-k texels are the source's
+// only where both grids of 2^k-blocks line up; shifted by one texel, 1-texel
+// detail (text, lines) blurs differently at every level a minified view
+// samples (VertexColorTest: 24 dB at level 1). The whole-texel position x
+// of a patch lines them up when x = residue (mod block), per atlas axis.
+// sc, ss, ox, oy: the patch's mask frame, atlas = (sc, -ss; ss, sc) p +
+// (ox, oy) + whole position, as build_mask takes it. block: a power of 2.
+struct BlockResidue {
+  int x = 0, y = 0;
+};
+BlockResidue mip_block_residue(const SimilarityFit& fit, double sc, double ss, double ox, double oy,
+                               int block);
+
 }  // namespace gltfwarp
