@@ -26,49 +26,84 @@ namespace {
 // Distance from v to the nearest whole number.
 double off_whole(double v) { return std::abs(v - std::round(v)); }
 
+// A patch of 6 random triangles whose source texels are a random
+// similarity of their layout (mirrored when asked), on a 1024 x 512 image.
+struct RandomPatch {
+  bool mirror = false;
+  double angle = 0, density = 0, tx = 0, ty = 0;
+  uint32_t width = 1024, height = 512;
+  std::vector<double> xy;
+  std::vector<float> uv;
+  std::vector<uint32_t> faces;
+  SimilarityFit fit;  // fit_texel_alignment of the above
+  UvMap map;          // 4096 x 4096, at 0.5 to 1.5 of the source's density
+  // The source texel position of a layout point.
+  void source_of(double px, double py, double& sx, double& sy) const {
+    const double my = mirror ? -py : py;
+    sx = density * (std::cos(angle) * px - std::sin(angle) * my) + tx;
+    sy = density * (std::sin(angle) * px + std::cos(angle) * my) + ty;
+  }
+};
+
+RandomPatch random_patch(std::mt19937& rng, bool mirror) {
+  std::uniform_real_distribution<double> uni(0, 1);
+  RandomPatch p;
+  p.mirror = mirror;
+  p.angle = 6.2831853 * uni(rng), p.density = 50 + 400 * uni(rng);
+  p.tx = 1000 * uni(rng), p.ty = 1000 * uni(rng);
+  for (uint32_t f = 0; f < 6; ++f) {
+    p.faces.push_back(f);
+    for (int v = 0; v < 3; ++v) {
+      const double px = uni(rng), py = uni(rng);
+      double sx, sy;
+      p.source_of(px, py, sx, sy);
+      p.xy.push_back(px), p.xy.push_back(py);
+      p.uv.push_back(float(sx / p.width)), p.uv.push_back(float(sy / p.height));
+    }
+  }
+  p.fit = fit_texel_alignment(p.xy, p.uv, p.faces, p.width, p.height, 0.02);
+  p.map.texel_scale = float(p.density * (0.5 + uni(rng)));
+  p.map.atlas_width = p.map.atlas_height = 4096;
+  return p;
+}
+
+// The placement the packer writes for an aligned transform, at whole
+// position (0, 0) (a fraction of 1 carries into the whole part).
+PatchPlacement placement_of(const AlignedTransform& at) {
+  PatchPlacement pl;
+  pl.scale_step = at.scale_step;
+  if (at.coarse) {
+    pl.rotation = at.rotation;
+  } else {
+    pl.fine = true;
+    pl.cos_q = at.cos_q, pl.sin_q = at.sin_q;
+    pl.x_frac = uint32_t(std::lround(at.frac_x * kFineFracSteps)) % kFineFracSteps;
+    pl.y_frac = uint32_t(std::lround(at.frac_y * kFineFracSteps)) % kFineFracSteps;
+    pl.x = at.frac_x >= 1 ? 1 : 0, pl.y = at.frac_y >= 1 ? 1 : 0;
+  }
+  return pl;
+}
+
 TEST(TexelAlignment, PlacementPutsSourceTexelCentresOnAtlasTexelCentres) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> uni(0, 1);
   for (int trial = 0; trial < 40; ++trial) {
     // A patch of random points, its source texels a random similarity of
     // them (mirrored every other trial).
     const bool mirror = trial % 2 == 1;
-    const double angle = 6.2831853 * uni(rng), density = 50 + 400 * uni(rng);
-    const double tx = 1000 * uni(rng), ty = 1000 * uni(rng);
-    const uint32_t W = 1024, H = 512;
-    std::vector<double> xy;
-    std::vector<float> uv;
-    std::vector<uint32_t> faces;
-    for (uint32_t f = 0; f < 6; ++f) {
-      faces.push_back(f);
-      for (int v = 0; v < 3; ++v) {
-        const double px = uni(rng), py = uni(rng), my = mirror ? -py : py;
-        xy.push_back(px), xy.push_back(py);
-        const double sx = density * (std::cos(angle) * px - std::sin(angle) * my) + tx;
-        const double sy = density * (std::sin(angle) * px + std::cos(angle) * my) + ty;
-        uv.push_back(float(sx / W)), uv.push_back(float(sy / H));
-      }
-    }
-    const SimilarityFit fit = fit_texel_alignment(xy, uv, faces, W, H, 0.02);
+    const RandomPatch patch = random_patch(rng, mirror);
+    const std::vector<double>& xy = patch.xy;
+    const std::vector<float>& uv = patch.uv;
+    const uint32_t W = patch.width, H = patch.height;
+    const double density = patch.density;
+    const SimilarityFit& fit = patch.fit;
+    const UvMap& map = patch.map;
     ASSERT_TRUE(fit.ok) << "trial " << trial;
     EXPECT_EQ(fit.mirror, mirror);
-    UvMap map;
-    map.texel_scale = float(density * (0.5 + uni(rng)));
-    map.atlas_width = map.atlas_height = 4096;
     for (int turn = 0; turn < 4; ++turn) {
       AlignedTransform at;
       ASSERT_TRUE(aligned_transform(fit, turn, double(map.texel_scale), 1.5, at));
-      PatchPlacement pl;
-      pl.scale_step = at.scale_step;
-      pl.x = 1000, pl.y = 1000;
-      if (at.coarse) {
-        pl.rotation = at.rotation;
-      } else {
-        pl.fine = true;
-        pl.cos_q = at.cos_q, pl.sin_q = at.sin_q;
-        pl.x_frac = uint32_t(std::lround(at.frac_x * kFineFracSteps)) % kFineFracSteps;
-        pl.y_frac = uint32_t(std::lround(at.frac_y * kFineFracSteps)) % kFineFracSteps;
-      }
+      PatchPlacement pl = placement_of(at);
+      pl.x += 1000, pl.y += 1000;
       // Same density as the source, and each corner's atlas texel position
       // minus its source texel position (turned) a whole vector: centres
       // land on centres.
@@ -92,58 +127,28 @@ TEST(TexelAlignment, PlacementPutsSourceTexelCentresOnAtlasTexelCentres) {
 // hold the source's own averages too.
 TEST(TexelAlignment, BlockResidueLinesUpMipBlocks) {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> uni(0, 1);
   constexpr int kBlock = 4;
   int checked = 0;
   for (int trial = 0; trial < 40; ++trial) {
-    const bool mirror = trial % 2 == 1;
-    const double angle = 6.2831853 * uni(rng), density = 50 + 400 * uni(rng);
-    const double tx = 1000 * uni(rng), ty = 1000 * uni(rng);
-    const uint32_t W = 1024, H = 512;
-    // The source texel position of a layout point.
-    const auto source_of = [&](double px, double py, double& sx, double& sy) {
-      const double my = mirror ? -py : py;
-      sx = density * (std::cos(angle) * px - std::sin(angle) * my) + tx;
-      sy = density * (std::sin(angle) * px + std::cos(angle) * my) + ty;
-    };
-    std::vector<double> xy;
-    std::vector<float> uv;
-    std::vector<uint32_t> faces;
-    for (uint32_t f = 0; f < 6; ++f) {
-      faces.push_back(f);
-      for (int v = 0; v < 3; ++v) {
-        double sx, sy;
-        xy.push_back(uni(rng)), xy.push_back(uni(rng));
-        source_of(xy[xy.size() - 2], xy.back(), sx, sy);
-        uv.push_back(float(sx / W)), uv.push_back(float(sy / H));
-      }
-    }
-    const SimilarityFit fit = fit_texel_alignment(xy, uv, faces, W, H, 0.02);
+    const RandomPatch patch = random_patch(rng, trial % 2 == 1);
+    const std::vector<double>& xy = patch.xy;
+    const double density = patch.density;
+    const SimilarityFit& fit = patch.fit;
+    const UvMap& map = patch.map;
     ASSERT_TRUE(fit.ok);
-    UvMap map;
-    map.texel_scale = float(density * (0.5 + uni(rng)));
-    map.atlas_width = map.atlas_height = 4096;
     for (int turn = 0; turn < 4; ++turn) {
       AlignedTransform at;
       ASSERT_TRUE(aligned_transform(fit, turn, double(map.texel_scale), 1.5, at));
       // The mask frame the packer builds (build_mask), then a whole position near 1000 with the residue.
       const double unit = double(map.texel_scale) * patch_scale(at.scale_step);
       double sc, ss, ox = 0, oy = 0;
-      PatchPlacement pl;
-      pl.scale_step = at.scale_step;
+      PatchPlacement pl = placement_of(at);
       if (at.coarse) {
-        pl.rotation = at.rotation;
         rotation_cos_sin(at.rotation, sc, ss);
         sc *= unit, ss *= unit;
       } else {
-        pl.fine = true;
-        pl.cos_q = at.cos_q, pl.sin_q = at.sin_q;
-        pl.x_frac = uint32_t(std::lround(at.frac_x * kFineFracSteps)) % kFineFracSteps;
-        pl.y_frac = uint32_t(std::lround(at.frac_y * kFineFracSteps)) % kFineFracSteps;
         sc = unit * at.cos_q * 0x1p-15, ss = unit * at.sin_q * 0x1p-15;
         ox = at.frac_x, oy = at.frac_y;
-        // A fraction of 1 is a whole texel: the placement carries it.
-        pl.x = at.frac_x >= 1 ? 1 : 0, pl.y = at.frac_y >= 1 ? 1 : 0;
       }
       const BlockResidue res = mip_block_residue(fit, sc, ss, ox, oy, kBlock);
       pl.x += 1000 + ((res.x - 1000) % kBlock + kBlock) % kBlock;
@@ -166,7 +171,7 @@ TEST(TexelAlignment, BlockResidueLinesUpMipBlocks) {
           const double u = ((jx - ax0) * (fy - ay0) - (fx - ax0) * (jy - ay0)) / det;
           const double v = ((ex - ax0) * (jy - ay0) - (jx - ax0) * (ey - ay0)) / det;
           double sx, sy;
-          source_of(xy[0] + u * c, xy[1] + v * c, sx, sy);
+          patch.source_of(xy[0] + u * c, xy[1] + v * c, sx, sy);
           ASSERT_LT(off_whole(sx - 0.5), 0.02);
           ASSERT_LT(off_whole(sy - 0.5), 0.02);
           const std::pair<long, long> sb{long(std::floor(std::floor(sx) / kBlock)),
