@@ -39,6 +39,7 @@ struct Mask {
   std::vector<int> widest;                // per cell row: its widest run
   uint64_t cells = 0;
   int step = 1;  // positions (in cells) on multiples of this: MIP blocks of an aligned patch
+  int align_up(int v) const { return (v + step - 1) / step * step; }  // the first position >= v
 };
 
 struct PatchInfo {
@@ -278,8 +279,7 @@ struct Bitmap {
 // Lowest (then leftmost) position where mask m fits, or false.
 bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_from, int y_limit) {
   if (m.cw > bm.wc) return false;
-  const auto up = [&](int v) { return (v + m.step - 1) / m.step * m.step; };
-  for (int y = up(y_from); y + m.ch <= bm.hc && y < y_limit; y += m.step) {
+  for (int y = m.align_up(y_from); y + m.ch <= bm.hc && y < y_limit; y += m.step) {
     if (y >= bm.used_rows) {  // everything below is free
       out_x = 0, out_y = y;
       return true;
@@ -299,7 +299,7 @@ bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_f
         for (int k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
           const int p = bm.first_set(yy, x + m.runs[k].first, x + m.runs[k].second);
           if (p >= 0) {  // skip the whole occupied run that starts at p
-            x = up(std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first));
+            x = m.align_up(std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first));
             hit = true;
             last = r;
             break;
@@ -347,7 +347,7 @@ bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint3
           int y = 0;
           for (int c = 0; c < m.cw; ++c)
             if (m.bottom[c] != kNone) y = std::max(y, sky[x + c] - m.bottom[c]);
-          y = (y + m.step - 1) / m.step * m.step;
+          y = m.align_up(y);
           if (y + m.ch > hc_max || (long long)y * m.cw >= best_score) continue;
           long long waste = 0;
           int top = 0;
