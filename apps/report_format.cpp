@@ -23,6 +23,14 @@ void append_recoded(char* line, size_t size, const Fallback& f) {
     std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
                   coder_name(f.explicit_image_mime), f.images_recoded_quality);
   }
+  if (f.images_kept > 0) {
+    const size_t used = std::strlen(line);
+    std::snprintf(line + used, size - used,
+                  "; %u source image%s kept as %s (%zu bytes): %s q%d would be %zu bytes, and lossy",
+                  f.images_kept, f.images_kept == 1 ? "" : "s", f.images_kept == 1 ? "it was" : "they were",
+                  f.kept_bytes, coder_name(f.explicit_image_mime), f.kept_recoded_quality,
+                  f.kept_recoded_bytes);
+  }
   if (f.images_repacked > 0) {
     const size_t used = std::strlen(line);
     std::snprintf(line + used, size - used, "; %u source PNG%s written again losslessly, %zu -> %zu bytes",
@@ -34,7 +42,7 @@ void append_recoded(char* line, size_t size, const Fallback& f) {
 }  // namespace
 
 std::string fallback_text(const Fallback& f) {
-  char line[512];
+  char line[1024];
   switch (f.reason) {
     case FallbackReason::none:
       return "no reason given";

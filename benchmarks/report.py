@@ -304,6 +304,32 @@ def plot(rows, path):
     fig.savefig(path, dpi=100)
 
 
+def decode_stage_rows(path):
+    """Rows from gltf-warp-bench's JSON (medians of its repetitions): the
+    replay's rate on one thread and on every core, read_uvmap, and the UV
+    rebuild against Draco's decode of the same primitives in one process."""
+    if not os.path.exists(path):
+        return []
+    med = {b["run_name"]: b for b in json.load(open(path)).get("benchmarks", [])
+           if b.get("aggregate_name") == "median" and not b.get("error_occurred")}
+    def ms(name):
+        b = med[name]
+        return b["real_time"] * {"ns": 1e-6, "us": 1e-3, "ms": 1.0, "s": 1e3}[b["time_unit"]]
+    one, every = "BM_FileReplay/threads:1/real_time", "BM_FileReplay/threads:0/real_time"
+    draco, rebuild = "BM_FileDraco/real_time", "BM_FileRebuildTexcoords/real_time"
+    if not all(k in med for k in (one, every, draco, rebuild, "BM_FileReadUvmap/real_time")):
+        return []
+    rate = med[one]["triangles/s"] / 1e6
+    return [
+        ("replay (`layout_patches`), one thread: M triangles/s, median of 3 (`gltf-warp-bench`)", f"{rate:.1f}"),
+        ("replay, every core: M triangles/s", f"{med[every]['triangles/s'] / 1e6:.1f}"),
+        ("replay target >= 10 M triangles/s per core (issue 19)", "met" if rate >= 10 else "not met"),
+        ("`read_uvmap` ms / UV rebuild (`rebuild_texcoords`) ms / Draco decode of the same primitives ms, one process",
+         f"{ms('BM_FileReadUvmap/real_time'):.0f} / {ms(rebuild):.0f} / {ms(draco):.0f}"),
+        ("ratio: UV rebuild / Draco decode, one process", f"{ms(rebuild) / ms(draco):.2f}"),
+    ]
+
+
 def large(workdir, outdir):
     times = {}
     for line in open(os.path.join(workdir, "times")):
@@ -349,6 +375,7 @@ def large(workdir, outdir):
             ("ratio: our decode --layout mixed / draco_decoder (target <= 1.5)",
              f"{med['decode_mixed'] / med['draco_decoder']:.2f}"),
         ]
+    rows += decode_stage_rows(os.path.join(workdir, "stages.json"))
     rows += [
         ("ratio: our decode / gltf-warp decode of explicit-UV Draco-12", f"{med['decode'] / med['decode_explicit']:.2f}"),
         ("encode target <= 60 s on 2 cores", "met" if med["encode"] <= 60 else "not met"),

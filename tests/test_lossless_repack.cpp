@@ -99,5 +99,50 @@ TEST(LosslessRepack, FallbackWritesSmallerPngsOfTheSamePixels) {
   EXPECT_EQ(OIIO::ImageBufAlgo::compare(after, before, 0.0f, 0.0f).maxerror, 0.0);
 }
 
+// Asked for JPEG, a group that keeps explicit UVs still writes a source
+// image as it was where JPEG would not make it smaller: the coder could only
+// lose quality (the Fox at JPEG q85 came out 158.8 KB at 39.5 dB, against
+// 110.6 KB at 52.1 dB with its own PNG).
+TEST(LosslessRepack, FallbackKeepsASourceTheAskedCoderWouldNotShrink) {
+  for (const bool flat : {true, false}) {
+    tinygltf::Model m = test::empty_scene();
+    const int image = flat ? test::add_flat_png_image(m, 128) : test::add_png_image(m, 128);
+    test::add_primitive(m, test::grid_mesh(8, 8), test::add_material(m, test::add_texture(m, image)));
+    const std::vector<uint8_t> source = m.images[size_t(image)].image;
+    EncodeOptions o;
+    o.min_psnr = 99;  // no atlas reaches it: the group keeps explicit UVs
+    o.goal_psnr = 0;
+    o.image_format = "jpeg";
+    o.image_quality = 85;
+    EncodeReport report;
+    ASSERT_EQ(encode_model(m, o, report).message, "");
+    ASSERT_EQ(report.primitives.size(), 1u);
+    const Fallback& why = report.primitives[0].fallback;
+    ASSERT_EQ(why.reason, FallbackReason::below_quality_floor);
+    const tinygltf::Image& im = m.images[0];
+    std::vector<uint8_t> written = im.image;
+    if (written.empty() && im.bufferView >= 0) {
+      const tinygltf::BufferView& bv = m.bufferViews[size_t(im.bufferView)];
+      const auto& data = m.buffers[size_t(bv.buffer)].data;
+      written.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
+                     data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
+    }
+    if (flat) {  // JPEG only adds bytes: the PNG stays, byte for byte
+      EXPECT_EQ(why.images_kept, 1u);
+      EXPECT_EQ(why.images_recoded_quality, 0);
+      EXPECT_EQ(why.kept_bytes, source.size());
+      EXPECT_GE(why.kept_recoded_bytes, source.size());
+      EXPECT_EQ(why.kept_recoded_quality, 85);
+      EXPECT_EQ(im.mimeType, "image/png");
+      EXPECT_EQ(written, source);
+    } else {  // the busy checker: JPEG q85 is the smaller file, as asked
+      EXPECT_EQ(why.images_kept, 0u);
+      EXPECT_EQ(why.images_recoded_quality, 85);
+      EXPECT_EQ(im.mimeType, "image/jpeg");
+      EXPECT_LT(written.size(), source.size());
+    }
+  }
+}
+
 }  // namespace
 }  // namespace gltfwarp

@@ -58,6 +58,12 @@ struct Fallback {
   // the source images were written with that coder at this quality (0: left
   // as they were).
   int images_recoded_quality = 0;
+  // ... except these, kept as they were: in that coder and quality
+  // (kept_recoded_quality) they came out no smaller (kept_recoded_bytes
+  // against kept_bytes), so the coder would only have lost quality.
+  uint32_t images_kept = 0;
+  size_t kept_bytes = 0, kept_recoded_bytes = 0;
+  int kept_recoded_quality = 0;
   // Source PNGs written again by our PNG writer, smaller and to the same
   // pixels (lossless_repacks), with their bytes before and after.
   uint32_t images_repacked = 0;

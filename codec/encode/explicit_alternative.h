@@ -40,6 +40,8 @@ LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group
 // images (--image-format), gets its lossy-coded source images in that coder
 // at the quality asked, like an atlas would have: `lossy` from
 // lossy_sources. Sets why.images_recoded_quality and explicit_image_mime.
+// An image that the coder asked does not make smaller stays as it was
+// (why.images_kept): smaller and lossless beats larger and lossy.
 // Nothing happens with --image-format keep or png.
 Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
                               SourceImages& sources, Fallback& why);

@@ -156,6 +156,15 @@ int add_png_image(tinygltf::Model& m, int size) {
   });
 }
 
+int add_flat_png_image(tinygltf::Model& m, int size) {
+  return add_rgb_png(m, size, [size](int x, int y, unsigned char* p) {
+    static constexpr unsigned char kColours[4][3] = {
+        {214, 120, 40}, {250, 246, 236}, {40, 30, 28}, {120, 70, 30}};
+    const unsigned char* c = kColours[(2 * x >= size) + 2 * (2 * y >= size)];
+    std::copy(c, c + 3, p);
+  });
+}
+
 int add_gradient_png_image(tinygltf::Model& m, int size) {
   return add_rgb_png(m, size, [size](int x, int y, unsigned char* p) {
     p[0] = static_cast<unsigned char>(255 * x / size);
