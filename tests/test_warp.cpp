@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <filesystem>
 #include <functional>
 
 #include "codec/decode/tangents.h"
@@ -435,6 +437,49 @@ TEST(Warp, BadInput) {
   opt.encoding = SlotEncoding::normal;  // frames missing
   EXPECT_EQ(warp_texture(src, ok, 8, 8, opt, out), WarpStatus::bad_input);
   EXPECT_EQ(warp_texture(OIIO::ImageBuf(), ok, 8, 8, WarpOptions{}, out), WarpStatus::bad_input);
+}
+
+// One staging serves many warps (an atlas's pages, its density rounds):
+// each page comes out the same as when it staged the source itself, two
+// pages read one file, and a staging made for other options is refused.
+TEST(Warp, SharedStagingGivesTheSamePages) {
+  const int S = 64;
+  const OIIO::ImageBuf src = make_image(S, S, 3, [](int x, int y, uint8_t* p) {
+    p[0] = uint8_t(x * 4), p[1] = uint8_t(y * 4), p[2] = uint8_t(((x / 8 + y / 8) & 1) ? 230 : 20);
+  });
+  Patch left, right;
+  left.add(4, 4, 40, 0, 0, 56, 0, 0, 0.5, 0, 0, 1, 64, 64);
+  right.add(10, 2, 48, 6, -6, 48, 0.5, 0, 0.5, 0, 0, 1, 64, 64);
+  WarpOptions opt;  // sRGB, cubic magnification: the staging keeps linear texels
+  std::string why;
+  const std::shared_ptr<const StagedSource> staged = stage_source(src, opt, why);
+  ASSERT_TRUE(staged) << why;
+  ASSERT_FALSE(staged->linear.empty());
+  ASSERT_TRUE(std::filesystem::exists(staged->path));
+  for (const Patch* patch : {&left, &right}) {
+    const WarpPrimitive prims[1] = {patch->view()};
+    OIIO::ImageBuf alone, shared;
+    ASSERT_EQ(warp_texture(src, prims, 64, 64, opt, alone), WarpStatus::ok);
+    ASSERT_EQ(warp_texture(src, prims, 64, 64, opt, shared, nullptr, staged.get()), WarpStatus::ok);
+    ASSERT_EQ(alone.spec().image_bytes(), shared.spec().image_bytes());
+    EXPECT_EQ(std::memcmp(alone.localpixels(), shared.localpixels(), alone.spec().image_bytes()), 0);
+  }
+  const WarpPrimitive prims[1] = {left.view()};
+  OIIO::ImageBuf out;
+  WarpOptions linear = opt;
+  linear.encoding = SlotEncoding::linear;  // staged in sRGB-decoded values: not this slot's
+  EXPECT_EQ(warp_texture(src, prims, 64, 64, linear, out, nullptr, staged.get()), WarpStatus::bad_input);
+  const OIIO::ImageBuf other = make_image(32, 32, 3, [](int, int, uint8_t* p) { p[0] = p[1] = p[2] = 9; });
+  EXPECT_EQ(warp_texture(other, prims, 64, 64, opt, out, nullptr, staged.get()), WarpStatus::bad_input);
+  // The staged file goes with its last owner.
+  std::string path;
+  {
+    const std::shared_ptr<const StagedSource> once = stage_source(src, opt, why);
+    ASSERT_TRUE(once) << why;
+    path = once->path;
+    EXPECT_TRUE(std::filesystem::exists(path));
+  }
+  EXPECT_FALSE(std::filesystem::exists(path));
 }
 
 }  // namespace

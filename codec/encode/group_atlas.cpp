@@ -55,8 +55,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       std::vector<SurfaceUvs> uvs;
       Error err;
       WarpReport wr;
-      if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err,
-                           &wr))
+      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err, &wr))
         continue;  // no member on this page samples the image
       if (err.failed()) return err;
       if (!source.slot.normal_map) out.fit_before += wr.fit.error_before, out.fit_after += wr.fit.error_after;
@@ -123,7 +122,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
       Error err;
-      if (!warp_page_image(model, plan, group, out, source, coding, decoded->pixels, page, atlas, uvs, err))
+      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err))
         continue;
       if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
@@ -84,6 +85,9 @@ struct SourceImage {
   OIIO::ImageBuf pixels;
   std::optional<std::vector<PaletteEntry>> palette;  // source_palette, once asked for
   std::map<JobKey, TextureSampler> samplers;
+  // Staged for the warp (warp.h), per slot encoding: every page and every
+  // density round of the group warps from the one staging.
+  std::map<SlotEncoding, std::shared_ptr<const StagedSource>> staged;
 };
 using SourceImages = std::map<int, SourceImage>;
 
@@ -191,11 +195,11 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 // that page that sample its image). `uvs`: those members' source and atlas
 // UVs with their patches, for the measurement; `report`, if given, the
 // warp's (its least-squares fit). False: no member on the page samples the
-// image (nothing warped).
+// image (nothing warped). The source is staged once, in `decoded`.
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
-                     const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, Error& error, WarpReport* report = nullptr);
+                     SourceImage& decoded, uint32_t page, OIIO::ImageBuf& atlas, std::vector<SurfaceUvs>& uvs,
+                     Error& error, WarpReport* report = nullptr);
 
 // Snaps the warped page to the palette it will be written with (PNG kept
 // as PNG keeps its source's palette), so the quality check measures the

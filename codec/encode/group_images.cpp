@@ -143,8 +143,8 @@ const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding&
 
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
-                     const OIIO::ImageBuf& pixels, uint32_t page, OIIO::ImageBuf& atlas,
-                     std::vector<SurfaceUvs>& uvs, Error& error, WarpReport* report) {
+                     SourceImage& decoded, uint32_t page, OIIO::ImageBuf& atlas, std::vector<SurfaceUvs>& uvs,
+                     Error& error, WarpReport* report) {
   error = {};
   uvs.clear();
   const bool normal_map = source.slot.normal_map;
@@ -185,9 +185,19 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
     uvs.push_back({ip.source_uv, ip.corner_uv, built.group_patch[k]});
   }
   if (wp.empty()) return false;
+  std::shared_ptr<const StagedSource>& staged = decoded.staged[coding.warp.encoding];
+  if (!staged) {
+    std::string why;
+    staged = stage_source(decoded.pixels, coding.warp, why);
+    if (!staged) {
+      error = {ErrorCode::internal, "staging image " + std::to_string(source.image) + ": " + why};
+      return true;
+    }
+  }
   WarpReport wr;
   const auto [page_width, page_height] = built.report.page_sizes[page];
-  const WarpStatus ws = warp_texture(pixels, wp, page_width, page_height, coding.warp, atlas, &wr);
+  const WarpStatus ws =
+      warp_texture(decoded.pixels, wp, page_width, page_height, coding.warp, atlas, &wr, staged.get());
   if (ws != WarpStatus::ok)
     error = {ErrorCode::internal, "warping image " + std::to_string(source.image) + ": " + to_string(ws) +
                                       (wr.error.empty() ? "" : " " + wr.error)};

@@ -249,15 +249,11 @@ std::string unique_temp_path(const std::string& dir) {
   return (base / name.str()).string();
 }
 
-struct TempFile {
-  std::string path;
-  ~TempFile() {
-    if (!path.empty()) {
-      std::error_code ec;
-      std::filesystem::remove(path, ec);
-    }
-  }
-};
+// Whether the staged source keeps its linear texels in memory (cubic
+// lookups, the fit): up to 4096^2 texels.
+bool keeps_linear(const WarpOptions& options, int width, int height) {
+  return options.cubic_magnification && size_t(width) * size_t(height) <= (size_t(1) << 24);
+}
 
 // Which channels carry sRGB colour: all but alpha (channel 3 of 4, 1 of 2).
 bool is_color_channel(int c, int nch) { return nch >= 3 ? c < 3 : c < 1; }
@@ -458,9 +454,72 @@ void fit_atlas(const FitInput& in, uint8_t* pixels, const std::vector<uint8_t>& 
 
 }  // namespace
 
+StagedSource::~StagedSource() {
+  if (!path.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+}
+
+std::shared_ptr<const StagedSource> stage_source(const ImageBuf& source, const WarpOptions& options,
+                                                 std::string& error) {
+  const ImageSpec& sspec = source.spec();
+  const int nch = sspec.nchannels;
+  if (!source.initialized() || sspec.width <= 0 || sspec.height <= 0 || nch < 1 || nch > 4) {
+    error = "source image is empty or has an unsupported channel count";
+    return nullptr;
+  }
+  const bool srgb = options.encoding == SlotEncoding::srgb;
+  const int sw = sspec.width, sh = sspec.height;
+  const bool deep = sspec.format.size() > 1;  // uint16, half, float sources
+  auto staged = std::make_shared<StagedSource>();
+  staged->path = unique_temp_path(options.temp_dir);
+  staged->width = sw, staged->height = sh, staged->channels = nch;
+  staged->encoding = options.encoding;
+  const bool keep_linear = keeps_linear(options, sw, sh);
+  std::vector<float>& linear = staged->linear;
+  if (keep_linear) linear.resize(size_t(sw) * sh * nch);
+  ImageBuf stage(ImageSpec(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF));
+  std::vector<float> rows;
+  const int chunk = 64;
+  for (int y0 = sspec.y; y0 < sspec.y + sh; y0 += chunk) {
+    const int y1 = std::min(sspec.y + sh, y0 + chunk);
+    const ROI roi(sspec.x, sspec.x + sw, y0, y1, 0, 1, 0, nch);
+    rows.resize(size_t(sw) * (y1 - y0) * nch);
+    if (!source.get_pixels(roi, TypeDesc::FLOAT, rows.data())) {
+      error = "cannot read source pixels: " + source.geterror();
+      return nullptr;
+    }
+    if (srgb) {
+      for (size_t i = 0; i < rows.size(); ++i) {
+        if (!is_color_channel(int(i % nch), nch)) continue;
+        rows[i] = srgb_to_linear_of_pixel(rows[i]);
+      }
+    }
+    const ROI droi(0, sw, y0 - sspec.y, y1 - sspec.y, 0, 1, 0, nch);
+    stage.set_pixels(droi, TypeDesc::FLOAT, rows.data());
+    if (keep_linear) std::copy(rows.begin(), rows.end(), linear.begin() + size_t(y0 - sspec.y) * sw * nch);
+  }
+  ImageSpec config(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF);
+  config.tile_width = 64;
+  config.tile_height = 64;
+  config.tile_depth = 1;
+  config.attribute("maketx:filtername", "box");
+  config.attribute("maketx:hash", 0);  // no SHA-1 of a throwaway file
+  config.attribute("maketx:compute_average", 0);
+  config.attribute("compression", "none");  // staged for a few reads, skip zlib
+  std::ostringstream err;
+  if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, stage, staged->path, config,
+                                        &err)) {
+    error = "cannot stage the source texture: " + err.str() + OIIO::geterror();
+    return nullptr;
+  }
+  return staged;
+}
+
 WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> prims, uint32_t atlas_width,
                         uint32_t atlas_height, const WarpOptions& options, ImageBuf& out,
-                        WarpReport* report_out) {
+                        WarpReport* report_out, const StagedSource* staged) {
   const auto t0 = std::chrono::steady_clock::now();
   WarpReport report;
   auto fail = [&](WarpStatus s, std::string msg) {
@@ -487,48 +546,22 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       return fail(WarpStatus::bad_input, "normal map warp needs normals and both tangent frames");
   }
 
-  // 1. Stage the source as a tiled, MIP-mapped texture in linear values.
-  const bool srgb = options.encoding == SlotEncoding::srgb;
-  const int sw = sspec.width, sh = sspec.height;
-  const bool deep = sspec.format.size() > 1;  // uint16, half, float sources
-  TempFile temp{unique_temp_path(options.temp_dir)};
-  // The linear source in memory for cubic lookups (up to 4096^2 texels).
-  const bool keep_linear = options.cubic_magnification && size_t(sw) * sh <= (size_t(1) << 24);
-  std::vector<float> linear;
-  if (keep_linear) linear.resize(size_t(sw) * sh * nch);
-  {
-    ImageBuf stage(ImageSpec(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF));
-    std::vector<float> rows;
-    const int chunk = 64;
-    for (int y0 = sspec.y; y0 < sspec.y + sh; y0 += chunk) {
-      const int y1 = std::min(sspec.y + sh, y0 + chunk);
-      const ROI roi(sspec.x, sspec.x + sw, y0, y1, 0, 1, 0, nch);
-      rows.resize(size_t(sw) * (y1 - y0) * nch);
-      if (!source.get_pixels(roi, TypeDesc::FLOAT, rows.data()))
-        return fail(WarpStatus::texture_error, "cannot read source pixels: " + source.geterror());
-      if (srgb) {
-        for (size_t i = 0; i < rows.size(); ++i) {
-          if (!is_color_channel(int(i % nch), nch)) continue;
-          rows[i] = srgb_to_linear_of_pixel(rows[i]);
-        }
-      }
-      const ROI droi(0, sw, y0 - sspec.y, y1 - sspec.y, 0, 1, 0, nch);
-      stage.set_pixels(droi, TypeDesc::FLOAT, rows.data());
-      if (keep_linear) std::copy(rows.begin(), rows.end(), linear.begin() + size_t(y0 - sspec.y) * sw * nch);
-    }
-    ImageSpec config(sw, sh, nch, deep ? TypeDesc::FLOAT : TypeDesc::HALF);
-    config.tile_width = 64;
-    config.tile_height = 64;
-    config.tile_depth = 1;
-    config.attribute("maketx:filtername", "box");
-    config.attribute("maketx:hash", 0);  // no SHA-1 of a throwaway file
-    config.attribute("maketx:compute_average", 0);
-    config.attribute("compression", "none");  // staged for one read, skip zlib
-    std::ostringstream err;
-    if (!OIIO::ImageBufAlgo::make_texture(OIIO::ImageBufAlgo::MakeTxTexture, stage, temp.path, config, &err))
-      return fail(WarpStatus::texture_error,
-                  "cannot stage the source texture: " + err.str() + OIIO::geterror());
+  // 1. The source staged (stage_source), here or by the caller for several warps.
+  std::shared_ptr<const StagedSource> own;
+  if (!staged) {
+    std::string why;
+    own = stage_source(source, options, why);
+    if (!own) return fail(WarpStatus::texture_error, why);
+    staged = own.get();
   }
+  const int sw = sspec.width, sh = sspec.height;
+  const bool srgb = options.encoding == SlotEncoding::srgb;
+  const bool deep = sspec.format.size() > 1;  // uint16, half, float sources
+  if (staged->width != sw || staged->height != sh || staged->channels != nch ||
+      staged->encoding != options.encoding || staged->linear.empty() != !keeps_linear(options, sw, sh))
+    return fail(WarpStatus::bad_input, "the staged source is not this source under these options");
+  const std::vector<float>& linear = staged->linear;
+  const bool keep_linear = !linear.empty();
 
   // 2. The page's triangles, bucketed by band.
   const int W = int(atlas_width), H = int(atlas_height);
@@ -610,7 +643,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
   OIIO::TextureSystem* ts = OIIO::TextureSystem::create(false);
   ts->attribute("automip", 1);
   ts->attribute("max_memory_MB", 512.0f);
-  const OIIO::ustring tex_name(temp.path);
+  const OIIO::ustring tex_name(staged->path);
   {
     OIIO::ImageSpec probe;
     if (!ts->get_imagespec(tex_name, 0, probe)) {

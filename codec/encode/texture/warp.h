@@ -14,8 +14,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <OpenImageIO/imagebuf.h>
 
@@ -127,8 +129,36 @@ struct WarpReport {
 // Warps `source` (any channel count 1..4, uint8/uint16/float) into a page of
 // atlas_width x atlas_height texels. `out` gets the source's channel count and
 // uint8 (uint16 for deeper sources) texels.
+//
+// `staged`: the source as stage_source made it for these options, or null
+// (the warp stages it itself).
+struct StagedSource;
 WarpStatus warp_texture(const OIIO::ImageBuf& source, std::span<const WarpPrimitive> prims,
                         uint32_t atlas_width, uint32_t atlas_height, const WarpOptions& options,
-                        OIIO::ImageBuf& out, WarpReport* report = nullptr);
+                        OIIO::ImageBuf& out, WarpReport* report = nullptr,
+                        const StagedSource* staged = nullptr);
+
+// The source as the warp reads it: a tiled, MIP-mapped file of its linear
+// values for OIIO's texture system, and those values in memory for the
+// cubic lookups and the fit. Staging a 4096² source takes seconds (sRGB
+// decoding, MIP filtering, writing the file), and an atlas's pages and its
+// density rounds warp the same source: they share one (the 1M-face sample
+// staged its 4096² texture once per page, four times).
+struct StagedSource {
+  std::string path;           // the file, removed with this object
+  std::vector<float> linear;  // width * height * channels, or empty (over 2^24 texels, or not needed)
+  int width = 0, height = 0, channels = 0;
+  SlotEncoding encoding = SlotEncoding::srgb;
+  StagedSource() = default;
+  StagedSource(const StagedSource&) = delete;
+  StagedSource& operator=(const StagedSource&) = delete;
+  ~StagedSource();
+};
+
+// Stages `source` as warp_texture would under `options` (its encoding,
+// cubic_magnification and temp_dir). Null on failure, with
+// the reason in `error`.
+std::shared_ptr<const StagedSource> stage_source(const OIIO::ImageBuf& source, const WarpOptions& options,
+                                                 std::string& error);
 
 }  // namespace gltfwarp
