@@ -50,6 +50,13 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
     if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
     const SlotCoding coding = slot_coding(model, source, options);
     out.report.source_image_bytes += model.images[source.image].image.size();
+    // Built on the first page measured, for all of them.
+    std::vector<TextureSampler> mip_reference;
+    const auto reference = [&]() -> std::span<const TextureSampler> {
+      if (mip_reference.empty())
+        mip_reference = group_mip_reference(model, plan, group, source, coding, *decoded);
+      return mip_reference;
+    };
     for (uint32_t page = 0; page < out.pages.size(); ++page) {
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
@@ -65,7 +72,8 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       const std::string image = "image " + std::to_string(source.image) + ": ";
       const size_t atlas_bytes = atlas.spec().image_bytes();
       if (!coding.lossy && held_bytes + atlas_bytes <= kMaxHeldBytes) {
-        if (!source.slot.normal_map) measure_page_image(source, coding, *decoded, atlas, uvs, true, out);
+        if (!source.slot.normal_map)
+          measure_page_image(source, coding, *decoded, atlas, uvs, reference(), out);
         held_bytes += atlas_bytes;
         uncoded.push_back({out.jobs.size(), std::move(atlas), palette, coding});
         out.jobs.push_back(std::move(job));
@@ -76,7 +84,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
         OIIO::ImageBuf shown;
         if (std::string why; coding.lossy && !decode_image(job.bytes, shown, why))
           return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, true, out);
+        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, reference(), out);
       }
       out.report.atlas_image_bytes += job.bytes.size();
       out.jobs.push_back(std::move(job));
@@ -127,7 +135,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       if (!coding.lossy) {
-        measure_page_image(source, coding, *decoded, atlas, uvs, false, out);
+        measure_page_image(source, coding, *decoded, atlas, uvs, {}, out);
         continue;
       }
       const std::string image = "image " + std::to_string(source.image) + ": ";
@@ -136,7 +144,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (Error e = code_page_image(atlas, palette, coding, bytes); e.failed()) return e.at(image);
       if (std::string why; !decode_image(bytes, shown, why))
         return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-      measure_page_image(source, coding, *decoded, shown, uvs, false, out);
+      measure_page_image(source, coding, *decoded, shown, uvs, {}, out);
     }
   }
   return {};

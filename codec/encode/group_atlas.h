@@ -221,11 +221,18 @@ const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding&
 
 // Surface error of `shown` (what a viewer samples: the page image, or its
 // coded bytes decoded back) against the source: into the atlas's error, the
-// image's and each patch's; with `mip_levels` (full builds only: it costs
-// four more passes) also into out.mip, MIP levels 0..3 and worst regions.
+// image's and each patch's; with a `mip_reference` (group_mip_reference;
+// full builds only: it costs four more passes) also into out.mip, MIP
+// levels 0..3 and worst regions.
 // Colour slots only: normal maps change legitimately (new tangent frames).
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, bool mip_levels,
-                        GroupAtlas& out);
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs,
+                        std::span<const TextureSampler> mip_reference, GroupAtlas& out);
+
+// The MIP reference (mip_quality.h) of a slot source, from every face of
+// the group that shows its image: for measure_page_image on each page.
+std::vector<TextureSampler> group_mip_reference(const tinygltf::Model& model, const ImplicitPlan& plan,
+                                                const AtlasGroup& group, const SlotSource& source,
+                                                const SlotCoding& coding, SourceImage& decoded);
 
 }  // namespace gltfwarp

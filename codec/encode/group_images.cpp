@@ -228,8 +228,8 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
 }
 
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, bool mip_levels,
-                        GroupAtlas& out) {
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs,
+                        std::span<const TextureSampler> mip_reference, GroupAtlas& out) {
   const bool srgb = source.slot.color_space == ColorSpace::srgb;
   const TextureSampler& before = source_sampler(source, coding, decoded);
   TextureSampler after;
@@ -238,13 +238,25 @@ void measure_page_image(const SlotSource& source, const SlotCoding& coding, Sour
   const SurfaceError e = surface_error(before, after, uvs, 4'000'000, &out.patch_error);
   out.error.add(e);
   out.image_error[source.image].add(e);
-  if (mip_levels) {
-    const MipQuality mq = mip_surface_error(before, after, uvs);
+  if (!mip_reference.empty()) {
+    const MipQuality mq = mip_surface_error(mip_reference, after, uvs);
     if (out.mip.level[0].values == 0)
       out.mip = mq;
     else
       out.mip.add(mq);
   }
+}
+
+std::vector<TextureSampler> group_mip_reference(const tinygltf::Model& model, const ImplicitPlan& plan,
+                                                const AtlasGroup& group, const SlotSource& source,
+                                                const SlotCoding& coding, SourceImage& decoded) {
+  std::vector<float> faces;
+  for (size_t m : group.members) {
+    const ImplicitPrimitive& ip = plan.prims[m];
+    if (samples_image(model, ip, source.image))
+      faces.insert(faces.end(), ip.source_uv.begin(), ip.source_uv.end());
+  }
+  return mip_reference(source_sampler(source, coding, decoded), faces);
 }
 
 }  // namespace gltfwarp

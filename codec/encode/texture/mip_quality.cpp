@@ -76,7 +76,7 @@ double worst_region_psnr(std::vector<SurfaceError> groups, double fraction) {
 }
 
 // A chain sampled at a fractional LOD: bilinear in the two nearest levels, blended.
-void trilinear(const std::vector<TextureSampler>& chain, double lod, double u, double v, int channels,
+void trilinear(std::span<const TextureSampler> chain, double lod, double u, double v, int channels,
                float* out, float* scratch) {
   const int l0 = int(std::floor(lod)), l1 = std::min(int(chain.size()) - 1, l0 + 1);
   const float frac = float(lod - l0);
@@ -89,22 +89,31 @@ void trilinear(const std::vector<TextureSampler>& chain, double lod, double u, d
 
 }  // namespace
 
+std::vector<TextureSampler> mip_reference(const TextureSampler& source, std::span<const float> reach_faces) {
+  if (!source.ok) return {};
+  const auto& sspec = source.pixels.spec();
+  const int src_levels = 1 + int(std::ceil(std::log2(std::max(1, std::max(sspec.width, sspec.height)))));
+  // Filled, so that the source's own chart bleed is not counted.
+  return mip_chain(with_unreached_filled(source, reach_faces), std::min(src_levels, 16));
+}
+
 MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler& atlas,
                              std::span<const SurfaceUvs> prims, const MipQualityOptions& options) {
+  std::vector<float> source_faces;
+  for (const SurfaceUvs& p : prims)
+    source_faces.insert(source_faces.end(), p.source_uv.begin(), p.source_uv.end());
+  return mip_surface_error(mip_reference(source, source_faces), atlas, prims, options);
+}
+
+MipQuality mip_surface_error(std::span<const TextureSampler> schain, const TextureSampler& atlas,
+                             std::span<const SurfaceUvs> prims, const MipQualityOptions& options) {
   MipQuality q;
-  if (!source.ok || !atlas.ok) return q;
+  if (schain.empty() || !schain[0].ok || !atlas.ok) return q;
+  const TextureSampler& source = schain[0];
   const auto& sspec = source.pixels.spec();
   const auto& t = source.transform;
   const double src_texels = double(sspec.width) * sspec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
   const double atlas_texels = double(atlas.pixels.spec().width) * atlas.pixels.spec().height;
-  const int src_levels = 1 + int(std::ceil(std::log2(std::max(1, std::max(sspec.width, sspec.height)))));
-  // The reference: the source with the texels no face reaches filled from
-  // its charts, so the source's own chart bleed is not counted (texel_reach.h).
-  std::vector<float> source_faces;
-  for (const SurfaceUvs& p : prims)
-    source_faces.insert(source_faces.end(), p.source_uv.begin(), p.source_uv.end());
-  const std::vector<TextureSampler> schain =
-      mip_chain(with_unreached_filled(source, source_faces), std::min(src_levels, 16));
   const int atlas_side = std::max(atlas.pixels.spec().width, atlas.pixels.spec().height);
   const std::vector<TextureSampler> achain =
       mip_chain(atlas, 1 + int(std::ceil(std::log2(std::max(1, atlas_side)))));

@@ -46,6 +46,16 @@ struct MipQuality {
 // box-filtered 2x2 means of the linear texels.
 std::vector<TextureSampler> mip_chain(TextureSampler s, int levels);
 
+// The reference a viewer's MIP chain of the source gives: the source with
+// the texels no face of `reach_faces` (source UVs, 6 floats per face)
+// reaches filled from its charts (texel_reach.h), then mip_chain. Every page
+// an image is warped into compares with the one reference, built from all
+// the faces that show the image (a 4096² source's is seconds of work).
+std::vector<TextureSampler> mip_reference(const TextureSampler& source, std::span<const float> reach_faces);
+
+MipQuality mip_surface_error(std::span<const TextureSampler> reference, const TextureSampler& atlas,
+                             std::span<const SurfaceUvs> prims, const MipQualityOptions& options = {});
+// The same against the reference of prims' own source faces.
 MipQuality mip_surface_error(const TextureSampler& source, const TextureSampler& atlas,
                              std::span<const SurfaceUvs> prims, const MipQualityOptions& options = {});
 
