@@ -31,6 +31,35 @@ std::vector<uint8_t> chunk(const char* type, const std::string& data) {
   return c;
 }
 
+// The bytes the encoder wrote for `image` (it moves images into buffer views).
+std::vector<uint8_t> written_bytes(const tinygltf::Model& m, size_t image) {
+  const tinygltf::Image& im = m.images[image];
+  if (!im.image.empty() || im.bufferView < 0) return im.image;
+  const tinygltf::BufferView& bv = m.bufferViews[size_t(im.bufferView)];
+  const auto& data = m.buffers[size_t(bv.buffer)].data;
+  return {data.begin() + std::ptrdiff_t(bv.byteOffset),
+          data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength)};
+}
+
+// A grid showing one 128² PNG (made by `add_image`), encoded with `o` under
+// a floor no atlas reaches, so the group keeps explicit UVs: `source` gets
+// the image's bytes before, `why` the fallback.
+void encode_below_floor(tinygltf::Model& m, int (*add_image)(tinygltf::Model&, int), EncodeOptions o,
+                        std::vector<uint8_t>& source, Fallback& why) {
+  m = test::empty_scene();
+  const int image = add_image(m, 128);
+  test::add_primitive(m, test::grid_mesh(8, 8), test::add_material(m, test::add_texture(m, image)));
+  source = m.images[size_t(image)].image;
+  o.min_psnr = 99;
+  o.goal_psnr = 0;
+  EncodeReport report;
+  ASSERT_EQ(encode_model(m, o, report).message, "");
+  ASSERT_EQ(report.primitives.size(), 1u);
+  why = report.primitives[0].fallback;
+  ASSERT_EQ(why.reason, FallbackReason::below_quality_floor);
+  ASSERT_EQ(m.images.size(), 1u);
+}
+
 TEST(LosslessRepack, OnlyPngsThatHoldPixelsAloneQualify) {
   const std::vector<uint8_t> png = our_png(16);
   std::string types;
@@ -62,31 +91,15 @@ TEST(LosslessRepack, OnlyPngsThatHoldPixelsAloneQualify) {
 }
 
 TEST(LosslessRepack, FallbackWritesSmallerPngsOfTheSamePixels) {
-  tinygltf::Model m = test::empty_scene();
-  const int image = test::add_png_image(m, 128);  // stb's PNG writer: larger than ours
-  test::add_primitive(m, test::grid_mesh(8, 8), test::add_material(m, test::add_texture(m, image)));
-  const std::vector<uint8_t> source = m.images[size_t(image)].image;
-  EncodeOptions o;
-  o.min_psnr = 99;  // no atlas reaches it: the group keeps explicit UVs
-  o.goal_psnr = 0;
-  EncodeReport report;
-  ASSERT_EQ(encode_model(m, o, report).message, "");
-  ASSERT_EQ(report.primitives.size(), 1u);
-  const Fallback& why = report.primitives[0].fallback;
-  ASSERT_EQ(why.reason, FallbackReason::below_quality_floor);
+  tinygltf::Model m;
+  std::vector<uint8_t> source;
+  Fallback why;
+  // stb's PNG writer (add_png_image's): larger than ours.
+  encode_below_floor(m, test::add_png_image, EncodeOptions{}, source, why);
+  if (HasFatalFailure()) return;
   EXPECT_EQ(why.images_repacked, 1u);
   EXPECT_EQ(why.repacked_bytes_before, source.size());
-
-  ASSERT_EQ(m.images.size(), 1u);
-  // The encoder moved the image into a buffer view.
-  const tinygltf::Image& im = m.images[0];
-  std::vector<uint8_t> written = im.image;
-  if (written.empty() && im.bufferView >= 0) {
-    const tinygltf::BufferView& bv = m.bufferViews[size_t(im.bufferView)];
-    const auto& data = m.buffers[size_t(bv.buffer)].data;
-    written.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
-                   data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
-  }
+  const std::vector<uint8_t> written = written_bytes(m, 0);
   EXPECT_EQ(why.repacked_bytes_after, written.size());
   EXPECT_LT(written.size(), source.size());
   EXPECT_EQ(m.images[0].mimeType, "image/png");
@@ -105,28 +118,16 @@ TEST(LosslessRepack, FallbackWritesSmallerPngsOfTheSamePixels) {
 // 110.6 KB at 52.1 dB with its own PNG).
 TEST(LosslessRepack, FallbackKeepsASourceTheAskedCoderWouldNotShrink) {
   for (const bool flat : {true, false}) {
-    tinygltf::Model m = test::empty_scene();
-    const int image = flat ? test::add_flat_png_image(m, 128) : test::add_png_image(m, 128);
-    test::add_primitive(m, test::grid_mesh(8, 8), test::add_material(m, test::add_texture(m, image)));
-    const std::vector<uint8_t> source = m.images[size_t(image)].image;
     EncodeOptions o;
-    o.min_psnr = 99;  // no atlas reaches it: the group keeps explicit UVs
-    o.goal_psnr = 0;
     o.image_format = "jpeg";
     o.image_quality = 85;
-    EncodeReport report;
-    ASSERT_EQ(encode_model(m, o, report).message, "");
-    ASSERT_EQ(report.primitives.size(), 1u);
-    const Fallback& why = report.primitives[0].fallback;
-    ASSERT_EQ(why.reason, FallbackReason::below_quality_floor);
+    tinygltf::Model m;
+    std::vector<uint8_t> source;
+    Fallback why;
+    encode_below_floor(m, flat ? test::add_flat_png_image : test::add_png_image, o, source, why);
+    if (HasFatalFailure()) return;
     const tinygltf::Image& im = m.images[0];
-    std::vector<uint8_t> written = im.image;
-    if (written.empty() && im.bufferView >= 0) {
-      const tinygltf::BufferView& bv = m.bufferViews[size_t(im.bufferView)];
-      const auto& data = m.buffers[size_t(bv.buffer)].data;
-      written.assign(data.begin() + std::ptrdiff_t(bv.byteOffset),
-                     data.begin() + std::ptrdiff_t(bv.byteOffset + bv.byteLength));
-    }
+    const std::vector<uint8_t> written = written_bytes(m, 0);
     if (flat) {  // JPEG only adds bytes: the PNG stays, byte for byte
       EXPECT_EQ(why.images_kept, 1u);
       EXPECT_EQ(why.images_recoded_quality, 0);
