@@ -481,6 +481,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       continue;
     }
     if (!built.coded) return {ErrorCode::internal, "an atlas below the quality floor was not coded"};
+    if (Error e = measure_mip_levels(model, plan, group, options, sources, built); e.failed()) return e;
     commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }
   drop_unused_textures(model, retired_textures);

@@ -50,13 +50,6 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
     if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
     const SlotCoding coding = slot_coding(model, source, options);
     out.report.source_image_bytes += model.images[source.image].image.size();
-    // Built on the first page measured, for all of them.
-    std::vector<TextureSampler> mip_reference;
-    const auto reference = [&]() -> std::span<const TextureSampler> {
-      if (mip_reference.empty())
-        mip_reference = group_mip_reference(model, plan, group, source, coding, *decoded);
-      return mip_reference;
-    };
     for (uint32_t page = 0; page < out.pages.size(); ++page) {
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
@@ -72,8 +65,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       const std::string image = "image " + std::to_string(source.image) + ": ";
       const size_t atlas_bytes = atlas.spec().image_bytes();
       if (!coding.lossy && held_bytes + atlas_bytes <= kMaxHeldBytes) {
-        if (!source.slot.normal_map)
-          measure_page_image(source, coding, *decoded, atlas, uvs, reference(), out);
+        if (!source.slot.normal_map) measure_page_image(source, coding, *decoded, atlas, uvs, {}, out);
         held_bytes += atlas_bytes;
         uncoded.push_back({out.jobs.size(), std::move(atlas), palette, coding});
         out.jobs.push_back(std::move(job));
@@ -84,7 +76,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
         OIIO::ImageBuf shown;
         if (std::string why; coding.lossy && !decode_image(job.bytes, shown, why))
           return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, reference(), out);
+        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, {}, out);
       }
       out.report.atlas_image_bytes += job.bytes.size();
       out.jobs.push_back(std::move(job));
@@ -105,10 +97,6 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
     }
   }
   out.report.psnr = out.floor_psnr();
-  for (size_t l = 0; l < kMipLevels; ++l) {
-    out.report.mip_psnr[l] = out.mip.level[l].values ? out.mip.level[l].psnr() : 0;
-    out.report.worst_psnr[l] = out.mip.worst_psnr[l];
-  }
   if (out.fit_before > 0 && out.fit_after > 0)
     out.report.fit_gain_db = 10 * std::log10(out.fit_before / out.fit_after);
   return {};
@@ -146,6 +134,43 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
         return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
       measure_page_image(source, coding, *decoded, shown, uvs, {}, out);
     }
+  }
+  return {};
+}
+
+Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built) {
+  built.mip = {};
+  for (const SlotSource& source : slot_sources(model, group)) {
+    if (source.slot.normal_map) continue;  // colour slots only, as measure_page_image
+    SourceImage* decoded = nullptr;
+    if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
+    const SlotCoding coding = slot_coding(model, source, options);
+    const bool srgb = source.slot.color_space == ColorSpace::srgb;
+    std::vector<TextureSampler> reference;  // built on the first page, for all of them
+    for (const WarpJob& job : built.jobs) {
+      if (job.key != source.key) continue;
+      const std::vector<SurfaceUvs> uvs = page_surface_uvs(model, plan, group, built, source.image, job.page);
+      if (uvs.empty()) continue;
+      // What a viewer samples: the page's bytes decoded (for PNG, the texels warped).
+      OIIO::ImageBuf shown;
+      if (std::string why; !decode_image(job.bytes, shown, why))
+        return {ErrorCode::internal,
+                "image " + std::to_string(source.image) + ": cannot read back the coded atlas: " + why};
+      TextureSampler after;
+      load_texture_sampler(shown, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
+                           TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
+      if (reference.empty()) reference = group_mip_reference(model, plan, group, source, coding, *decoded);
+      const MipQuality mq = mip_surface_error(reference, after, uvs);
+      if (built.mip.level[0].values == 0)
+        built.mip = mq;
+      else
+        built.mip.add(mq);
+    }
+  }
+  for (size_t l = 0; l < kMipLevels; ++l) {
+    built.report.mip_psnr[l] = built.mip.level[l].values ? built.mip.level[l].psnr() : 0;
+    built.report.worst_psnr[l] = built.mip.worst_psnr[l];
   }
   return {};
 }

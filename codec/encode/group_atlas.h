@@ -54,8 +54,8 @@ struct GroupAtlas {
   std::vector<UvMap> maps;                       // per member
   std::vector<std::vector<uint8_t>> bitstreams;  // per member
   std::vector<WarpJob> jobs;
-  SurfaceError error;                    // colour slots: warped atlas against the source
-  MipQuality mip;                        // the same at MIP levels 0..3 with worst regions (full builds only)
+  SurfaceError error;  // colour slots: warped atlas against the source
+  MipQuality mip;      // the same at MIP levels 0..3 with worst regions (measure_mip_levels)
   double fit_before = 0, fit_after = 0;  // least-squares fit errors, colour slots
   // The same per source image (pages pooled). The quality floor holds for
   // each image, so each material variant (usually its own images) keeps it,
@@ -221,16 +221,28 @@ const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding&
 
 // Surface error of `shown` (what a viewer samples: the page image, or its
 // coded bytes decoded back) against the source: into the atlas's error, the
-// image's and each patch's; with a `mip_reference` (group_mip_reference;
-// full builds only: it costs four more passes) also into out.mip, MIP
-// levels 0..3 and worst regions.
+// image's and each patch's; with a `mip_reference` (group_mip_reference)
+// also into out.mip, MIP levels 0..3 and worst regions.
 // Colour slots only: normal maps change legitimately (new tangent frames).
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
                         const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs,
                         std::span<const TextureSampler> mip_reference, GroupAtlas& out);
 
+// The members' source and atlas UVs on `page` that show `image`, with their
+// patches: what the page's measurements compare.
+std::vector<SurfaceUvs> page_surface_uvs(const tinygltf::Model& model, const ImplicitPlan& plan,
+                                         const AtlasGroup& group, const GroupAtlas& built, int image,
+                                         uint32_t page);
+
+// The MIP figures of the atlas the file keeps (report only), into
+// built.mip and its report: MIP levels 0..3 and worst regions of every
+// colour page, from its coded bytes. Four passes per page, so they are
+// measured once, on the final build, not in every density round's.
+Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built);
+
 // The MIP reference (mip_quality.h) of a slot source, from every face of
-// the group that shows its image: for measure_page_image on each page.
+// the group that shows its image: for measure_mip_levels on each page.
 std::vector<TextureSampler> group_mip_reference(const tinygltf::Model& model, const ImplicitPlan& plan,
                                                 const AtlasGroup& group, const SlotSource& source,
                                                 const SlotCoding& coding, SourceImage& decoded);

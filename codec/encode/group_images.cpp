@@ -141,6 +141,17 @@ const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding&
   return it->second;
 }
 
+std::vector<SurfaceUvs> page_surface_uvs(const tinygltf::Model& model, const ImplicitPlan& plan,
+                                         const AtlasGroup& group, const GroupAtlas& built, int image,
+                                         uint32_t page) {
+  std::vector<SurfaceUvs> uvs;
+  for (size_t k : built.pages[page]) {
+    const auto& ip = plan.prims[group.members[k]];
+    if (samples_image(model, ip, image)) uvs.push_back({ip.source_uv, ip.corner_uv, built.group_patch[k]});
+  }
+  return uvs;
+}
+
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      SourceImage& decoded, uint32_t page, OIIO::ImageBuf& atlas, std::vector<SurfaceUvs>& uvs,
@@ -182,8 +193,8 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
       w.new_tangents = frames.back().new_tangents;
     }
     wp.push_back(w);
-    uvs.push_back({ip.source_uv, ip.corner_uv, built.group_patch[k]});
   }
+  uvs = page_surface_uvs(model, plan, group, built, source.image, page);
   if (wp.empty()) return false;
   std::shared_ptr<const StagedSource>& staged = decoded.staged[coding.warp.encoding];
   if (!staged) {
