@@ -58,7 +58,8 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
       return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
     // The coder asked can only lose quality here: where it does not save
     // bytes either, the source as it is is the better file on both counts
-    // (the Fox's flat-colour PNG is 26.8 KB; as JPEG q85, 142 KB at 39.5 dB).
+    // (the Fox's flat-colour PNG is 26.8 KB; as JPEG q85, 80.7 KB, and the file
+    // 39.5 dB instead of 52.1).
     const size_t source_bytes = model.images[size_t(image)].image.size();
     if (bytes.size() >= source_bytes) {
       ++why.images_kept;

@@ -65,7 +65,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       const std::string image = "image " + std::to_string(source.image) + ": ";
       const size_t atlas_bytes = atlas.spec().image_bytes();
       if (!coding.lossy && held_bytes + atlas_bytes <= kMaxHeldBytes) {
-        if (!source.slot.normal_map) measure_page_image(source, coding, *decoded, atlas, uvs, {}, out);
+        if (!source.slot.normal_map) measure_page_image(source, coding, *decoded, atlas, uvs, out);
         held_bytes += atlas_bytes;
         uncoded.push_back({out.jobs.size(), std::move(atlas), palette, coding});
         out.jobs.push_back(std::move(job));
@@ -76,7 +76,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
         OIIO::ImageBuf shown;
         if (std::string why; coding.lossy && !decode_image(job.bytes, shown, why))
           return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, {}, out);
+        measure_page_image(source, coding, *decoded, coding.lossy ? shown : atlas, uvs, out);
       }
       out.report.atlas_image_bytes += job.bytes.size();
       out.jobs.push_back(std::move(job));
@@ -123,7 +123,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);
       if (!coding.lossy) {
-        measure_page_image(source, coding, *decoded, atlas, uvs, {}, out);
+        measure_page_image(source, coding, *decoded, atlas, uvs, out);
         continue;
       }
       const std::string image = "image " + std::to_string(source.image) + ": ";
@@ -132,7 +132,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       if (Error e = code_page_image(atlas, palette, coding, bytes); e.failed()) return e.at(image);
       if (std::string why; !decode_image(bytes, shown, why))
         return {ErrorCode::internal, image + "cannot read back the coded atlas: " + why};
-      measure_page_image(source, coding, *decoded, shown, uvs, {}, out);
+      measure_page_image(source, coding, *decoded, shown, uvs, out);
     }
   }
   return {};
@@ -146,7 +146,6 @@ Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan,
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, source.image, sources, decoded); e.failed()) return e;
     const SlotCoding coding = slot_coding(model, source, options);
-    const bool srgb = source.slot.color_space == ColorSpace::srgb;
     std::vector<TextureSampler> reference;  // built on the first page, for all of them
     for (const WarpJob& job : built.jobs) {
       if (job.key != source.key) continue;
@@ -157,11 +156,8 @@ Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan,
       if (std::string why; !decode_image(job.bytes, shown, why))
         return {ErrorCode::internal,
                 "image " + std::to_string(source.image) + ": cannot read back the coded atlas: " + why};
-      TextureSampler after;
-      load_texture_sampler(shown, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
-                           TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, {1, 0, 0, 0, 1, 0}, after);
       if (reference.empty()) reference = group_mip_reference(model, plan, group, source, coding, *decoded);
-      const MipQuality mq = mip_surface_error(reference, after, uvs);
+      const MipQuality mq = mip_surface_error(reference, page_sampler(source, shown), uvs);
       if (built.mip.level[0].values == 0)
         built.mip = mq;
       else

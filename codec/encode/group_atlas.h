@@ -219,14 +219,15 @@ bool samples_image(const tinygltf::Model& model, const ImplicitPrimitive& ip, in
 const TextureSampler& source_sampler(const SlotSource& source, const SlotCoding& coding,
                                      SourceImage& decoded);
 
-// Surface error of `shown` (what a viewer samples: the page image, or its
-// coded bytes decoded back) against the source: into the atlas's error, the
-// image's and each patch's; with a `mip_reference` (group_mip_reference)
-// also into out.mip, MIP levels 0..3 and worst regions.
-// Colour slots only: normal maps change legitimately (new tangent frames).
+// A coded page as a viewer samples it (`shown`: the page image, or its
+// coded bytes decoded back), for comparison with the slot's source.
+TextureSampler page_sampler(const SlotSource& source, const OIIO::ImageBuf& shown);
+
+// Surface error of `shown` against the source: into the atlas's error, the
+// image's and each patch's. Colour slots only: normal maps change
+// legitimately (new tangent frames). MIP levels: measure_mip_levels.
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs,
-                        std::span<const TextureSampler> mip_reference, GroupAtlas& out);
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out);
 
 // The members' source and atlas UVs on `page` that show `image`, with their
 // patches: what the page's measurements compare.

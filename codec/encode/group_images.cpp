@@ -238,24 +238,20 @@ Error code_page_image(const OIIO::ImageBuf& atlas, std::span<const PaletteEntry>
   return error_if(ErrorCode::internal, err);
 }
 
+TextureSampler page_sampler(const SlotSource& source, const OIIO::ImageBuf& shown) {
+  TextureSampler out;
+  load_texture_sampler(shown, source.slot.color_space == ColorSpace::srgb,
+                       TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
+                       {1, 0, 0, 0, 1, 0}, out);
+  return out;
+}
+
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
-                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs,
-                        std::span<const TextureSampler> mip_reference, GroupAtlas& out) {
-  const bool srgb = source.slot.color_space == ColorSpace::srgb;
+                        const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out) {
   const TextureSampler& before = source_sampler(source, coding, decoded);
-  TextureSampler after;
-  load_texture_sampler(shown, srgb, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE, TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE,
-                       {1, 0, 0, 0, 1, 0}, after);
-  const SurfaceError e = surface_error(before, after, uvs, 4'000'000, &out.patch_error);
+  const SurfaceError e = surface_error(before, page_sampler(source, shown), uvs, 4'000'000, &out.patch_error);
   out.error.add(e);
   out.image_error[source.image].add(e);
-  if (!mip_reference.empty()) {
-    const MipQuality mq = mip_surface_error(mip_reference, after, uvs);
-    if (out.mip.level[0].values == 0)
-      out.mip = mq;
-    else
-      out.mip.add(mq);
-  }
 }
 
 std::vector<TextureSampler> group_mip_reference(const tinygltf::Model& model, const ImplicitPlan& plan,
