@@ -1,9 +1,10 @@
 #!/usr/bin/env python3
-"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.3
-(and so 1.2, 1.1 and 1.0), written from spec/README.md alone (not from the
+"""Slow, independent reference decoder for GLTFWARP_implicit_texcoords 1.4
+(and so 1.3, 1.2, 1.1 and 1.0), written from spec/README.md alone (not from the
 C++). It decodes the golden streams of tests/golden/uvmap_v1_0.h (1.0),
 uvmap_v1_1.h (1.1, per-patch seeds), uvmap_v1_2.h (1.2, patches laid out by
-solve) and uvmap_v1_3.h (1.3, fine placements) on
+solve), uvmap_v1_3.h (1.3, fine placements) and uvmap_v1_4.h (1.4, the solve
+on cotangent weights) on
 the golden mesh and checks the FNV-1a hash of the decoded
 UVs, which shows that the spec is complete enough for a second implementation
 to reproduce the UVs bit for bit.
@@ -146,12 +147,12 @@ def decode(stream, positions, indices):
     if r.take(4) != b"GWUV":
         raise Invalid("bad_magic")
     major, minor = r.take(1)[0], r.take(1)[0]
-    if major != 1 or minor > 3:
+    if major != 1 or minor > 4:
         raise Invalid("unsupported_version")
     flags = r.take(1)[0]
-    ROTATIONS, SCALES, SEEDS, METHODS, FINE = 0x01, 0x02, 0x04, 0x08, 0x10
+    ROTATIONS, SCALES, SEEDS, METHODS, FINE, COTANGENT = 0x01, 0x02, 0x04, 0x08, 0x10, 0x20
     if flags & ~(ROTATIONS | SCALES | (SEEDS if minor >= 1 else 0) | (METHODS if minor >= 2 else 0)
-                 | (FINE if minor >= 3 else 0)):
+                 | (FINE if minor >= 3 else 0) | (COTANGENT if minor >= 4 and flags & METHODS else 0)):
         raise Invalid("reserved_bits")
     face_count = r.varint()
     tau = struct.unpack("<f", r.take(4))[0]
@@ -166,7 +167,8 @@ def decode(stream, positions, indices):
         raise Invalid("bad_count")
     solve = None
     if flags & METHODS:
-        solve = (r.varint(), r.varint(), r.varint())  # tutte CG steps, ARAP rounds, ARAP CG steps
+        # tutte CG steps, ARAP rounds, ARAP CG steps, cotangent weights
+        solve = (r.varint(), r.varint(), r.varint(), bool(flags & COTANGENT))
         if solve[0] > 1024 or solve[1] > 64 or solve[2] > 1024:
             raise Invalid("bad_value")
     if face_count != F:
@@ -367,10 +369,11 @@ def layout(pos, idx, faces_of, seeds, methods, solve):
 
 # ---- 6.7 the solve method --------------------------------------------------------
 TINY = 1e-300
+MIN_COT, MAX_COT = 2.0 ** -14, 16.0  # the cotangent weight clamp (6.7, 1.4)
 
 
 def solve_patch(pos, idx, fs, params, L2):
-    tutte_steps, arap_rounds, arap_steps = params
+    tutte_steps, arap_rounds, arap_steps, cotangent = params
     verts = sorted({idx[3 * f + k] for f in fs for k in range(3)})
     local = {v: i for i, v in enumerate(verts)}
     n, F = len(verts), len(fs)
@@ -491,7 +494,7 @@ def solve_patch(pos, idx, fs, params, L2):
     add_fixed(bx, by)
     cg(bx, by, tutte_steps)
 
-    # ARAP
+    # ARAP edge weights and isometric copies
     frames = []
     for f in fs:
         P = [pos[3 * idx[3 * f + k]:3 * idx[3 * f + k] + 3] for k in range(3)]
@@ -504,16 +507,40 @@ def solve_patch(pos, idx, fs, params, L2):
         cz = e1[0] * e2[1] - e1[1] * e2[0]
         cross = math.sqrt(cx * cx + cy * cy + cz * cz)
         frames.append([(0.0, 0.0), (l1, 0.0), (dot / (l1 + TINY), cross / (l1 + TINY))])
+    cw = [[1.0, 1.0, 1.0] for _ in tris]
+    if cotangent:
+        for t, X in zip(range(len(tris)), frames):
+            for k in range(3):
+                k1, k2 = (k + 1) % 3, (k + 2) % 3
+                ax, ay = X[k][0] - X[k2][0], X[k][1] - X[k2][1]
+                bx_, by_ = X[k1][0] - X[k2][0], X[k1][1] - X[k2][1]
+                q = (ax * bx_ + ay * by_) / (abs(ax * by_ - ay * bx_) + TINY)
+                cw[t][k] = MIN_COT if q < MIN_COT else (MAX_COT if q > MAX_COT else q)
+        w = [dict() for _ in range(n)]
+        for t, tri in enumerate(tris):
+            for k in range(3):
+                i, j = tri[k], tri[(k + 1) % 3]
+                w[i][j] = w[i].get(j, 0.0) + cw[t][k]
+                w[j][i] = w[j].get(i, 0.0) + cw[t][k]
+        nbr = [sorted(w[i].items()) for i in range(n)]
+        diag = []
+        for i in range(n):
+            d = 0.0
+            for _, wij in nbr[i]:
+                d += wij
+            diag.append(d)
+
+    # ARAP rounds
     fixed = [False] * n
     fixed[start] = True
     for _ in range(arap_rounds):
         rots = []
-        for t, X in zip(tris, frames):
+        for t, X, c_t in zip(tris, frames, cw):
             a = b = c = d = 0.0
             for k in range(3):
                 k1 = (k + 1) % 3
                 i, j = t[k], t[k1]
-                ux, uy = x[j] - x[i], y[j] - y[i]
+                ux, uy = c_t[k] * (x[j] - x[i]), c_t[k] * (y[j] - y[i])
                 vx, vy = X[k1][0] - X[k][0], X[k1][1] - X[k][1]
                 a += ux * vx
                 b += ux * vy
@@ -523,11 +550,12 @@ def solve_patch(pos, idx, fs, params, L2):
             ln = math.sqrt(pc * pc + ps * ps)
             rots.append((pc / (ln + TINY), ps / (ln + TINY)))
         bx, by = [0.0] * n, [0.0] * n
-        for t, X, (co, si) in zip(tris, frames, rots):
+        for t, X, (co, si), c_t in zip(tris, frames, rots, cw):
             for k in range(3):
                 for m in (1, 2):
                     j = (k + m) % 3
-                    ex, ey = X[k][0] - X[j][0], X[k][1] - X[j][1]
+                    e = k if m == 1 else j  # the face edge joining corners k and j
+                    ex, ey = c_t[e] * (X[k][0] - X[j][0]), c_t[e] * (X[k][1] - X[j][1])
                     bx[t[k]] += co * ex - si * ey
                     by[t[k]] += si * ex + co * ey
         add_fixed(bx, by)
@@ -689,16 +717,19 @@ def check_vector(name, pos, idx, median_seeds):
 
     def edit(i, v):
         return stream[:i] + bytes([v]) + stream[i + 1:]
-    # Section 4.1 / 6.1: a byte appended, minor 4, flag bit 5, a flag under a
+    # Section 4.1 / 6.1: a byte appended, minor 5, flag bit 6, a flag under a
     # minor older than it (SEEDS under 0, METHODS under 0 or 1, FINE under 0,
-    # 1 or 2) are rejected; a stream without a newer flag decodes the same
-    # under a newer minor.
-    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 4), "unsupported_version"),
-           (edit(6, stream[6] | 0x20), "reserved_bits")]
+    # 1 or 2, COTANGENT under 0 to 3) and COTANGENT without METHODS are
+    # rejected; a stream without a newer flag decodes the same under a newer
+    # minor.
+    bad = [(stream + b"\0", "trailing_bytes"), (edit(5, 5), "unsupported_version"),
+           (edit(6, stream[6] | 0x40), "reserved_bits")]
+    if stream[6] & 0x20:
+        bad.append((edit(6, stream[6] & ~0x08), "reserved_bits"))
     # Each flag and the minor version that introduced it: SEEDS 1.1, METHODS
-    # 1.2, FINE 1.3. (SEEDS is only tried on a 1.0 stream: under a newer minor
-    # the stream already allows it.)
-    for flag, minor in ((0x04, 1), (0x08, 2), (0x10, 3)):
+    # 1.2, FINE 1.3, COTANGENT 1.4. (SEEDS is only tried on a 1.0 stream:
+    # under a newer minor the stream already allows it.)
+    for flag, minor in ((0x04, 1), (0x08, 2), (0x10, 3), (0x20, 4)):
         if stream[6] & flag:
             bad.append((edit(5, minor - 1), "reserved_bits"))
         elif flag != 0x04 or stream[5] == 0:
@@ -724,6 +755,7 @@ def main():
     ok = check_vector("1_1", pos, idx, median_seeds=True) and ok
     ok = check_vector("1_2", pos, idx, median_seeds=True) and ok
     ok = check_vector("1_3", pos, idx, median_seeds=True) and ok
+    ok = check_vector("1_4", pos, idx, median_seeds=True) and ok
     return 0 if ok else 1
 
 

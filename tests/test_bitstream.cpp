@@ -152,8 +152,10 @@ TEST(Bitstream, CorruptHeadersAreRejected) {
   EXPECT_EQ(fx.with(3, 'X'), UvStatus::bad_magic);
   EXPECT_EQ(fx.with(4, 2), UvStatus::unsupported_version);
   EXPECT_EQ(fx.with(4, 0), UvStatus::unsupported_version);
-  EXPECT_EQ(fx.with(5, 4), UvStatus::unsupported_version);
-  EXPECT_EQ(fx.with(5, 3), UvStatus::ok);                // 1.3 reads every older stream
+  EXPECT_EQ(fx.with(5, 5), UvStatus::unsupported_version);
+  EXPECT_EQ(fx.with(5, 3), UvStatus::ok);  // 1.4 reads every older stream
+  EXPECT_EQ(fx.with(5, 4), UvStatus::ok);
+  EXPECT_EQ(fx.with(6, 0x20), UvStatus::reserved_bits);  // the cotangent flag needs minor >= 4 and METHODS
   EXPECT_EQ(fx.with(6, 0x10), UvStatus::reserved_bits);  // the fine flag needs minor >= 3
   EXPECT_EQ(fx.with(6, 0x08), UvStatus::reserved_bits);  // the methods flag needs minor >= 2
   EXPECT_EQ(fx.with(6, 0x04), UvStatus::reserved_bits);  // the seeds flag needs minor >= 1

@@ -137,16 +137,16 @@ TEST(BitstreamFine, OldStreamsAreUnchangedAndVersionsChecked) {
   const auto coarse = write_uvmap(map, mesh);
   EXPECT_EQ(coarse[5], 0);
   EXPECT_EQ(coarse[6] & kUvFlagFine, 0);
-  // A 1.0 stream read as 1.3 decodes the same; minor 4 is newer than this decoder.
+  // A 1.0 stream read as 1.3 decodes the same; minor 5 is newer than this decoder.
   auto as_13 = coarse;
   as_13[5] = 3;
   UvMap back;
   ASSERT_EQ(read_uvmap(as_13, mesh, back), UvStatus::ok);
   EXPECT_EQ(back, map);
-  as_13[5] = 4;
+  as_13[5] = 5;
   EXPECT_EQ(read_uvmap(as_13, mesh, back), UvStatus::unsupported_version);
 
-  // FINE under minor 0..2 is a reserved bit; under minor 4 the version is refused first.
+  // FINE under minor 0..2 is a reserved bit; under minor 5 the version is refused first.
   map.placements.back().fine = true;
   map.placements.back().rotation = 0;
   map.placements.back().cos_q = kFineUnit;
@@ -161,7 +161,7 @@ TEST(BitstreamFine, OldStreamsAreUnchangedAndVersionsChecked) {
     EXPECT_EQ(read_uvmap(older, mesh, back), UvStatus::reserved_bits) << int(minor);
   }
   auto newer = fine;
-  newer[5] = 4;
+  newer[5] = 5;
   EXPECT_EQ(read_uvmap(newer, mesh, back), UvStatus::unsupported_version);
   auto bit5 = fine;
   bit5[6] |= 0x20;

@@ -16,6 +16,7 @@
 #include "golden/uvmap_v1_1.h"
 #include "golden/uvmap_v1_2.h"
 #include "golden/uvmap_v1_3.h"
+#include "golden/uvmap_v1_4.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -128,6 +129,15 @@ UvMap golden_map_v1_3(const TriMesh& m) {
     pl.x_frac = f.x_frac;
     pl.y_frac = f.y_frac;
   }
+  return map;
+}
+
+// The golden 1.4 map: the 1.3 map with the solve on cotangent weights. The
+// saddle grid's faces are near-right triangles, so the weights opposite the
+// diagonals land near 0 and some on the lower clamp.
+UvMap golden_map_v1_4(const TriMesh& m) {
+  UvMap map = golden_map_v1_3(m);
+  map.solve.cotangent_weights = true;
   return map;
 }
 
@@ -288,16 +298,19 @@ TEST(BitstreamGolden, V1_2SolveOnANonDiscPatchIsRejected) {
   ASSERT_EQ(rounds[24], 4);
   rounds[24] = kMaxSolveRounds + 1;
   EXPECT_EQ(decode_uvs(mesh, rounds, uv), UvStatus::bad_value);
-  auto minor4 = bytes;
-  minor4[5] = 4;
-  EXPECT_EQ(decode_uvs(mesh, minor4, uv), UvStatus::unsupported_version);
-  // Read as 1.3 (no FINE flag) it decodes to the same floats.
-  auto minor3 = bytes;
-  minor3[5] = 3;
-  std::vector<float> uv12, uv13;
+  auto minor5 = bytes;
+  minor5[5] = 5;
+  EXPECT_EQ(decode_uvs(mesh, minor5, uv), UvStatus::unsupported_version);
+  // Read as 1.3 or 1.4 (no FINE or COTANGENT flag) it decodes to the same floats.
+  std::vector<float> uv12;
   ASSERT_EQ(decode_uvs(mesh, bytes, uv12), UvStatus::ok);
-  ASSERT_EQ(decode_uvs(mesh, minor3, uv13), UvStatus::ok);
-  EXPECT_EQ(uv13, uv12);
+  for (const uint8_t minor : {3, 4}) {
+    auto newer = bytes;
+    newer[5] = minor;
+    std::vector<float> uv_newer;
+    ASSERT_EQ(decode_uvs(mesh, newer, uv_newer), UvStatus::ok) << int(minor);
+    EXPECT_EQ(uv_newer, uv12) << int(minor);
+  }
   UvMap map = golden_map_v1_2(mesh);
   map.solve.arap_iterations = kMaxSolveRounds + 1;
   EXPECT_EQ(write_uvmap(map, mesh, bytes), UvStatus::bad_argument);
@@ -354,7 +367,8 @@ TEST(BitstreamGolden, V1_3EveryTruncationIsRejected) {
 }
 
 TEST(BitstreamGolden, V1_3HeaderRules) {
-  // FINE under an older minor is a reserved bit; minor 4 is newer than this decoder.
+  // FINE under an older minor is a reserved bit, and so is COTANGENT under
+  // minor 3; minor 5 is newer than this decoder.
   const TriMesh mesh = golden_mesh();
   const std::vector<uint8_t> bytes(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3));
   std::vector<float> uv;
@@ -363,10 +377,99 @@ TEST(BitstreamGolden, V1_3HeaderRules) {
     older[5] = minor;
     EXPECT_EQ(decode_uvs(mesh, older, uv), UvStatus::reserved_bits) << int(minor);
   }
-  auto minor4 = bytes;
-  minor4[5] = 4;
-  EXPECT_EQ(decode_uvs(mesh, minor4, uv), UvStatus::unsupported_version);
+  auto minor5 = bytes;
+  minor5[5] = 5;
+  EXPECT_EQ(decode_uvs(mesh, minor5, uv), UvStatus::unsupported_version);
   auto bit5 = bytes;
   bit5[6] |= 0x20;
   EXPECT_EQ(decode_uvs(mesh, bit5, uv), UvStatus::reserved_bits);
+}
+
+TEST(BitstreamGolden, WriterReproducesV1_4Bytes) {
+  const TriMesh mesh = golden_mesh();
+  const UvMap map = golden_map_v1_4(mesh);
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_4), std::end(golden::kUvMapV1_4));
+  EXPECT_EQ(bytes, golden) << "writer output changed; new bytes:\n" << hex(bytes);
+}
+
+TEST(BitstreamGolden, V1_4DecodesToFrozenUvs) {
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> golden(std::begin(golden::kUvMapV1_4), std::end(golden::kUvMapV1_4));
+  ASSERT_GT(golden.size(), 6u);
+  EXPECT_EQ(golden[5], 4);
+  EXPECT_EQ(golden[6], 0x3f);
+  UvMap map;
+  std::vector<float> uv;
+  ASSERT_EQ(decode_uvs(mesh, golden, uv, &map), UvStatus::ok);
+  EXPECT_EQ(map, golden_map_v1_4(mesh));
+  ASSERT_EQ(uv.size(), size_t{mesh.face_count()} * 6);
+  const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
+  EXPECT_EQ(h, golden::kUvMapV1_4UvHash) << std::hex << "0x" << h;
+  // Only the solve changes: unfold patches decode exactly as in the 1.3
+  // stream, and every solve patch of more than one face moves.
+  std::vector<float> uv13;
+  ASSERT_EQ(
+      decode_uvs(mesh, std::vector<uint8_t>(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3)),
+                 uv13),
+      UvStatus::ok);
+  std::vector<uint32_t> faces_in(map.patch_count, 0), moved(map.patch_count, 0);
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const uint32_t p = map.patch_of_face[f];
+    ++faces_in[p];
+    if (!std::equal(&uv[6 * f], &uv[6 * f + 6], &uv13[6 * f])) ++moved[p];
+  }
+  for (uint32_t p = 0; p < map.patch_count; ++p) {
+    if (map.methods[p] == 0) {
+      EXPECT_EQ(moved[p], 0u) << "unfold patch " << p;
+    } else if (faces_in[p] > 1) {
+      EXPECT_GT(moved[p], 0u) << "solve patch " << p;
+    }
+  }
+  // Still fold-free, with the 1.3 stream's windings (mirrored patches reversed).
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const float* c = &uv[6 * f];
+    const double area =
+        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
+    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
+    if (pl.fine && pl.mirror)
+      EXPECT_LT(area, 0.0) << "face " << f;
+    else
+      EXPECT_GT(area, 0.0) << "face " << f;
+  }
+}
+
+TEST(BitstreamGolden, V1_4EveryTruncationIsRejected) {
+  expect_prefixes_truncated(
+      std::vector<uint8_t>(std::begin(golden::kUvMapV1_4), std::end(golden::kUvMapV1_4)));
+}
+
+TEST(BitstreamGolden, V1_4HeaderRules) {
+  // COTANGENT under minor 3 or without METHODS is a reserved bit; read as
+  // 1.3 the flag is unknown, so the stream is rejected, never decoded with
+  // the wrong weights.
+  const TriMesh mesh = golden_mesh();
+  const std::vector<uint8_t> bytes(std::begin(golden::kUvMapV1_4), std::end(golden::kUvMapV1_4));
+  std::vector<float> uv;
+  for (uint8_t minor : {0, 1, 2, 3}) {
+    auto older = bytes;
+    older[5] = minor;
+    EXPECT_EQ(decode_uvs(mesh, older, uv), UvStatus::reserved_bits) << int(minor);
+  }
+  auto no_methods = bytes;
+  no_methods[6] &= ~kUvFlagMethods;
+  EXPECT_EQ(decode_uvs(mesh, no_methods, uv), UvStatus::reserved_bits);
+  auto bit6 = bytes;
+  bit6[6] |= 0x40;
+  EXPECT_EQ(decode_uvs(mesh, bit6, uv), UvStatus::reserved_bits);
+  auto minor5 = bytes;
+  minor5[5] = 5;
+  EXPECT_EQ(decode_uvs(mesh, minor5, uv), UvStatus::unsupported_version);
+  // A map whose every patch unfolds drops COTANGENT with METHODS: the writer
+  // never spends a version on weights nobody uses.
+  UvMap unfold = golden_map_v1_4(mesh);
+  std::fill(unfold.methods.begin(), unfold.methods.end(), 0);
+  const std::vector<uint8_t> plain = write_uvmap(unfold, mesh);
+  EXPECT_EQ(plain[5], 3);
+  EXPECT_EQ(plain[6] & (kUvFlagMethods | kUvFlagCotangent), 0);
 }

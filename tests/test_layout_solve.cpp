@@ -156,7 +156,9 @@ TEST(LayoutSolve, MixedEmbeddingOnShapesMatchesTheDecoder) {
     map.solve = e.solve;
     map.placements.assign(e.patch_count, PatchPlacement{});
     const std::vector<uint8_t> bytes = write_uvmap(map, m);
-    EXPECT_EQ(bytes[5], 2) << "a stream with a solve patch is version 1.2";
+    // The encoder's solve runs on cotangent weights, which only 1.4 expresses.
+    EXPECT_TRUE(map.solve.cotangent_weights);
+    EXPECT_EQ(bytes[5], 4) << "a stream with a cotangent-weighted solve patch is version 1.4";
     UvMap back;
     ASSERT_EQ(read_uvmap(bytes, m, back), UvStatus::ok);
     EXPECT_EQ(back, map);

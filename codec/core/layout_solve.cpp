@@ -25,7 +25,7 @@ struct Graph {
   uint32_t n = 0;
   const uint32_t* nbr_off;
   const uint32_t* nbr;
-  const uint8_t* weight;
+  const double* weight;
   const double* diag;
   const uint8_t* fixed;
 };
@@ -35,7 +35,7 @@ inline double apply_row(const Graph& g, uint32_t i, const double* v) {
   double s = 0;
   for (uint32_t e = g.nbr_off[i]; e < g.nbr_off[i + 1]; ++e) {
     const uint32_t j = g.nbr[e];
-    if (!g.fixed[j]) s += static_cast<double>(g.weight[e]) * v[j];
+    if (!g.fixed[j]) s += g.weight[e] * v[j];
   }
   return g.diag[i] * v[i] - s;
 }
@@ -104,15 +104,52 @@ void add_fixed_terms(const Graph& g, const double* x, const double* y, double* b
     for (uint32_t e = g.nbr_off[i]; e < g.nbr_off[i + 1]; ++e) {
       const uint32_t j = g.nbr[e];
       if (!g.fixed[j]) continue;
-      fx += static_cast<double>(g.weight[e]) * x[j];
-      fy += static_cast<double>(g.weight[e]) * y[j];
+      fx += g.weight[e] * x[j];
+      fy += g.weight[e] * y[j];
     }
     bx[i] = bx[i] + fx;
     by[i] = by[i] + fy;
   }
 }
 
+// Cotangent weights (step 4, cotangent_weights): face t's edge (t_k,
+// t_k+1) gets w_t[k] from the corner opposite it in its isometric copy;
+// w[i][j] is the sum over the (at most two) faces holding the edge, and
+// d[i] the sum of row i in ascending neighbour order.
+void cotangent_laplacian(std::span<const uint32_t> faces, const uint32_t* idx, SolveScratch& s, uint32_t n) {
+  const size_t nf = faces.size();
+  s.face_weight.resize(3 * nf);
+  std::fill(s.weight.begin(), s.weight.end(), 0.0);
+  auto entry = [&](uint32_t a, uint32_t b) {
+    return std::lower_bound(s.nbr.begin() + s.nbr_off[a], s.nbr.begin() + s.nbr_off[a + 1], b) -
+           s.nbr.begin();
+  };
+  for (size_t t = 0; t < nf; ++t) {
+    const uint32_t* tri = idx + 3 * size_t{faces[t]};
+    const double* X = &s.frame[6 * t];
+    for (int k = 0; k < 3; ++k) {
+      const int k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+      const double w = solve_cotangent_weight(X[2 * k] - X[2 * k2], X[2 * k + 1] - X[2 * k2 + 1],
+                                              X[2 * k1] - X[2 * k2], X[2 * k1 + 1] - X[2 * k2 + 1]);
+      s.face_weight[3 * t + k] = w;
+      const uint32_t i = s.local[tri[k]], j = s.local[tri[k1]];
+      s.weight[entry(i, j)] += w;
+      s.weight[entry(j, i)] += w;
+    }
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    double d = 0;
+    for (uint32_t e = s.nbr_off[i]; e < s.nbr_off[i + 1]; ++e) d += s.weight[e];
+    s.diag[i] = d;
+  }
+}
+
 }  // namespace
+
+double solve_cotangent_weight(double ax, double ay, double bx, double by) {
+  const double c = (ax * bx + ay * by) / (std::fabs(ax * by - ay * bx) + kSolveTiny);
+  return c < kSolveMinCot ? kSolveMinCot : (c > kSolveMaxCot ? kSolveMaxCot : c);
+}
 
 Vec2 solve_circle_point(double u, double r) {
   // tan(pi u / 4) by its [3/2] Pade approximant, then the rational point of
@@ -217,10 +254,10 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
       uint32_t deg = 0;
       for (uint32_t k = b; k < e; ++k) {
         if (k > b && s.nbr[k] == s.nbr[k - 1]) {
-          ++s.weight[w - 1];
+          s.weight[w - 1] += 1.0;
         } else {
           s.nbr[w] = s.nbr[k];
-          s.weight[w++] = 1;
+          s.weight[w++] = 1.0;
         }
         ++deg;
       }
@@ -293,6 +330,8 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
   }
 
   // ---- ARAP: the loop start stays pinned at the origin.
+  const bool cot = params.cotangent_weights;
+  if (cot) cotangent_laplacian(faces, idx, s, n);
   std::fill(s.fixed.begin(), s.fixed.end(), 0);
   s.fixed[start] = 1;
   s.rot.resize(2 * nf);
@@ -304,7 +343,8 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
       for (int k = 0; k < 3; ++k) {
         const int k1 = (k + 1) % 3;
         const uint32_t i = s.local[tri[k]], j = s.local[tri[k1]];
-        const double ux = x[j] - x[i], uy = y[j] - y[i];
+        const double w = cot ? s.face_weight[3 * t + k] : 1.0;
+        const double ux = w * (x[j] - x[i]), uy = w * (y[j] - y[i]);
         const double vx = X[2 * k1] - X[2 * k], vy = X[2 * k1 + 1] - X[2 * k + 1];
         a += ux * vx;
         b += ux * vy;
@@ -326,7 +366,9 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
         for (int m = 1; m <= 2; ++m) {
           const int j = (k + m) % 3;
           const uint32_t i = s.local[tri[k]];
-          const double ex = X[2 * k] - X[2 * j], ey = X[2 * k + 1] - X[2 * j + 1];
+          // Edge (k, k+1) is face edge k; edge (k+2, k) is face edge k+2 = j.
+          const double w = cot ? s.face_weight[3 * t + (m == 1 ? k : j)] : 1.0;
+          const double ex = w * (X[2 * k] - X[2 * j]), ey = w * (X[2 * k + 1] - X[2 * j + 1]);
           s.bx[i] += co * ex - si * ey;
           s.by[i] += si * ex + co * ey;
         }

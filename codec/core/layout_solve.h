@@ -24,8 +24,12 @@
 //     "A Local/Global Approach to Mesh Parameterization", 2008):
 //     `arap_iterations` rounds of a local step (each face's best rotation of
 //     its isometric 2D copy, by the 2x2 closed form with one sqrt) and a
-//     global step (`arap_cg_iterations` CG steps on the same Laplacian, the
-//     loop start pinned at the origin, warm-started).
+//     global step (`arap_cg_iterations` CG steps, the loop start pinned at
+//     the origin, warm-started). The ARAP energy's edge weights are those of
+//     the Tutte step (1 per face holding the edge), or, with
+//     `cotangent_weights` (format 1.4), each face's cotangent of the angle
+//     opposite the edge, clamped to [1/16384, 16]: the discrete ARAP energy
+//     itself, which converges to lower stretch on irregular meshes.
 //  5. A similarity scale: all positions times (sum of 3D edge lengths) /
 //     (sum of 2D edge lengths), over the faces' edges.
 // Divisions by a computed value that may be 0 add kSolveTiny to the divisor
@@ -45,6 +49,7 @@ struct SolveParams {
   uint32_t tutte_iterations = 64;    // CG steps of the Tutte system
   uint32_t arap_iterations = 8;      // local-global rounds
   uint32_t arap_cg_iterations = 16;  // CG steps of each global step
+  bool cotangent_weights = false;    // ARAP weighted by clamped cotangents (format 1.4)
   friend bool operator==(const SolveParams&, const SolveParams&) = default;
 };
 // Stream limits (the decoder's cost is bounded by them): tutte and arap CG
@@ -52,13 +57,19 @@ struct SolveParams {
 inline constexpr uint32_t kMaxSolveCg = 1024;
 inline constexpr uint32_t kMaxSolveRounds = 64;
 inline constexpr double kSolveTiny = 1e-300;
+// The cotangent weight's clamp (format 1.4). The lower bound only keeps an
+// obtuse corner's weight positive, so the system stays positive definite; at
+// 1/16 it cost seams (Duck 443 against 424 edges), so it is small. The upper
+// bound keeps a sliver's near-zero angle from swamping its neighbours.
+inline constexpr double kSolveMinCot = 1.0 / 16384.0;
+inline constexpr double kSolveMaxCot = 16.0;
 
 // Reused storage of solve_patch (one per thread).
 struct SolveScratch {
   std::vector<uint32_t> local;  // vertex id -> local index (only patch vertices are written)
   std::vector<uint32_t> verts, out_off, out_to, nbr_off, nbr, bout, loop, queue;
-  std::vector<uint8_t> weight, fixed, seen;
-  std::vector<double> diag, x, y, bx, by, r, p, q, frame, rot;
+  std::vector<uint8_t> fixed, seen;
+  std::vector<double> weight, diag, x, y, bx, by, r, p, q, frame, rot, face_weight;
 };
 
 enum class SolveStatus : uint8_t { ok, not_disc };
@@ -68,6 +79,12 @@ enum class SolveStatus : uint8_t { ok, not_disc };
 // entry per mesh vertex; other entries are untouched).
 SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, const SolveParams& params,
                         std::vector<Vec2>& pos, SolveScratch& scratch);
+
+// The ARAP weight of a face's edge from its isometric copy's corner
+// opposite it, ax, ay and bx, by being the two edges from that corner
+// (cotangent_weights, step 4): cot clamped to [1/16384, 16], by comparisons
+// that pass a NaN through unchanged, as the spec writes them.
+double solve_cotangent_weight(double ax, double ay, double bx, double by);
 
 // The boundary point of arc length fraction u in [0, 1) on the circle of
 // radius r through the origin (step 2), exposed for tests.

@@ -1,4 +1,4 @@
-// GLTFWARP_implicit_texcoords bitstream 1.3 (spec/README.md): writer and reader.
+// GLTFWARP_implicit_texcoords bitstream 1.4 (spec/README.md): writer and reader.
 // Partition coding: connectivity-predicted patch ids, face by face, with an
 // adaptive binary range coder (range_coder.h, after the LZMA SDK's rc).
 #include "format/bitstream/uvmap_codec.h"
@@ -240,8 +240,11 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   GW_TRY(r.u8(info.flags));
   const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0) |
                         (info.version_minor >= 2 ? kUvFlagMethods : 0) |
-                        (info.version_minor >= 3 ? kUvFlagFine : 0);
+                        (info.version_minor >= 3 ? kUvFlagFine : 0) |
+                        (info.version_minor >= 4 ? kUvFlagCotangent : 0);
   if (info.flags & ~known) return UvStatus::reserved_bits;
+  // COTANGENT qualifies the solve, so it means nothing without METHODS.
+  if ((info.flags & kUvFlagCotangent) && !(info.flags & kUvFlagMethods)) return UvStatus::reserved_bits;
   GW_TRY(r.varint(info.face_count));
   GW_TRY(r.f32(info.tau));
   GW_TRY(r.f32(info.texel_scale));
@@ -255,6 +258,7 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
     GW_TRY(r.varint(info.solve.tutte_iterations));
     GW_TRY(r.varint(info.solve.arap_iterations));
     GW_TRY(r.varint(info.solve.arap_cg_iterations));
+    info.solve.cotangent_weights = (info.flags & kUvFlagCotangent) != 0;
     if (!solve_params_ok(info.solve)) return UvStatus::bad_value;
   }
   return UvStatus::ok;
@@ -454,6 +458,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   }
   if (!map.seeds.empty()) flags |= kUvFlagSeeds;
   if (any_solve(map)) flags |= kUvFlagMethods;
+  if (any_solve(map) && map.solve.cotangent_weights) flags |= kUvFlagCotangent;
   // Seeds are coded as their rank among their patch's faces in ascending order.
   std::vector<uint32_t> patch_faces, seed_rank;
   if (flags & kUvFlagSeeds) {
@@ -493,7 +498,8 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   out.reserve(40 + part.size() + place.size());
   for (const uint8_t b : kUvMagic) out.push_back(b);
   out.push_back(kUvVersionMajor);
-  out.push_back((flags & kUvFlagFine)      ? 3
+  out.push_back((flags & kUvFlagCotangent) ? 4
+                : (flags & kUvFlagFine)    ? 3
                 : (flags & kUvFlagMethods) ? 2
                 : (flags & kUvFlagSeeds)   ? 1
                                            : 0);  // the oldest minor that reads it

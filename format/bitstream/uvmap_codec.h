@@ -1,4 +1,4 @@
-// The GLTFWARP_implicit_texcoords bitstream, format version 1.3: writer and
+// The GLTFWARP_implicit_texcoords bitstream, format version 1.4: writer and
 // reader of a UvMap. spec/README.md is the normative description; this is
 // its reference implementation.
 //
@@ -25,13 +25,15 @@ namespace gltfwarp {
 
 constexpr uint8_t kUvMagic[4] = {'G', 'W', 'U', 'V'};
 constexpr uint8_t kUvVersionMajor = 1;
-constexpr uint8_t kUvVersionMinor = 3;  // the newest minor this reader knows
+constexpr uint8_t kUvVersionMinor = 4;  // the newest minor this reader knows
 // Header flag bits (all others are reserved and must be 0).
 constexpr uint8_t kUvFlagRotations = 1u << 0;  // per-patch rotation codes are present
 constexpr uint8_t kUvFlagScales = 1u << 1;     // per-patch scale steps are present
 constexpr uint8_t kUvFlagSeeds = 1u << 2;      // per-patch seeds are present (minor >= 1)
 constexpr uint8_t kUvFlagMethods = 1u << 3;    // solve parameters and per-patch methods (minor >= 2)
 constexpr uint8_t kUvFlagFine = 1u << 4;       // per-patch fine placements (minor >= 3)
+constexpr uint8_t kUvFlagCotangent =
+    1u << 5;  // the solve's ARAP uses cotangent weights (minor >= 4, with METHODS)
 
 // Header fields and section sizes, read without the mesh (for `gltf-warp info`).
 struct UvStreamInfo {
@@ -56,7 +58,8 @@ UvStatus validate_uvmap(const UvMap& map, const TriMesh& mesh);
 // fine placements only if some placement is fine). The version is the lowest
 // that expresses the stream: without seeds, solve patches or fine placements
 // 1.0, byte for byte what a 1.0 writer produced; with seeds 1.1; with a solve
-// patch 1.2; with a fine placement 1.3.
+// patch 1.2; with a fine placement 1.3; with a solve by cotangent weights
+// (map.solve.cotangent_weights and some patch solves) 1.4.
 UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>& out);
 // Same, throwing std::invalid_argument (with to_string of the status) on error.
 std::vector<uint8_t> write_uvmap(const UvMap& map, const TriMesh& mesh);

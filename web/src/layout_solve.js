@@ -1,4 +1,5 @@
-// Section 6.7 of spec/README.md: the solve layout method (format 1.2). A disc
+// Section 6.7 of spec/README.md: the solve layout method (format 1.2; its
+// cotangent weights 1.4). A disc
 // patch gets Tutte's embedding with its boundary on a circle (Tutte 1963;
 // Floater 2003), then local-global ARAP rounds (Sorkine & Alexa 2007; Liu et
 // al. 2008); every linear solve is a fixed number of conjugate-gradient
@@ -9,6 +10,15 @@
 import { GltfWarpError } from './errors.js';
 
 const TINY = 1e-300;
+const MIN_COT = 1 / 16384, MAX_COT = 16; // the cotangent weight clamp (1.4)
+
+// The ARAP weight of a face's edge from the corner opposite it in the face's
+// isometric copy (a and b the two edges from that corner): its cotangent,
+// clamped by comparisons that pass a NaN through, as the spec writes them.
+export function cotangentWeight(ax, ay, bx, by) {
+  const q = (ax * bx + ay * by) / (Math.abs(ax * by - ay * bx) + TINY);
+  return q < MIN_COT ? MIN_COT : (q > MAX_COT ? MAX_COT : q);
+}
 
 function length2(pos, u, w) {
   const dx = pos[3 * u] - pos[3 * w];
@@ -229,6 +239,37 @@ export function solvePatch(pos, indices, faces, params) {
     frame[6 * t + 5] = cross / (l1 + TINY);
   }
 
+  // Edge weights: 1 per face, or (1.4) each face's clamped cotangent; the
+  // Laplacian is rebuilt from them (an edge's two terms commute exactly, and
+  // the diagonal sums each row in ascending neighbour order).
+  const cot = params.cotangent === true;
+  const faceWeight = new Float64Array(3 * F).fill(1);
+  if (cot) {
+    const entry = (a, b) => {
+      let lo = nbrOff[a], hi = nbrOff[a + 1];
+      while (lo < hi) { const mid = (lo + hi) >>> 1; if (nbr[mid] < b) lo = mid + 1; else hi = mid; }
+      return lo;
+    };
+    weight.fill(0);
+    for (let t = 0; t < F; ++t) {
+      const X = 6 * t;
+      for (let k = 0; k < 3; ++k) {
+        const k1 = (k + 1) % 3, k2 = (k + 2) % 3;
+        const wk = cotangentWeight(frame[X + 2 * k] - frame[X + 2 * k2], frame[X + 2 * k + 1] - frame[X + 2 * k2 + 1],
+          frame[X + 2 * k1] - frame[X + 2 * k2], frame[X + 2 * k1 + 1] - frame[X + 2 * k2 + 1]);
+        faceWeight[3 * t + k] = wk;
+        const i = tri[3 * t + k], j = tri[3 * t + k1];
+        weight[entry(i, j)] += wk;
+        weight[entry(j, i)] += wk;
+      }
+    }
+    for (let i = 0; i < n; ++i) {
+      let d = 0;
+      for (let e = nbrOff[i]; e < nbrOff[i + 1]; ++e) d += weight[e];
+      diag[i] = d;
+    }
+  }
+
   // ARAP: the loop start stays pinned at the origin.
   fixed.fill(0);
   fixed[start] = 1;
@@ -239,7 +280,8 @@ export function solvePatch(pos, indices, faces, params) {
       let a = 0, b = 0, c = 0, d = 0;
       for (let k = 0; k < 3; ++k) {
         const k1 = (k + 1) % 3, i = tri[3 * t + k], j = tri[3 * t + k1];
-        const ux = x[j] - x[i], uy = y[j] - y[i];
+        const wk = faceWeight[3 * t + k];
+        const ux = wk * (x[j] - x[i]), uy = wk * (y[j] - y[i]);
         const vx = frame[X + 2 * k1] - frame[X + 2 * k], vy = frame[X + 2 * k1 + 1] - frame[X + 2 * k + 1];
         a += ux * vx;
         b += ux * vy;
@@ -258,7 +300,8 @@ export function solvePatch(pos, indices, faces, params) {
       for (let k = 0; k < 3; ++k)
         for (let m = 1; m <= 2; ++m) {
           const j = (k + m) % 3, i = tri[3 * t + k];
-          const ex = frame[X + 2 * k] - frame[X + 2 * j], ey = frame[X + 2 * k + 1] - frame[X + 2 * j + 1];
+          const we = faceWeight[3 * t + (m === 1 ? k : j)]; // the face edge joining corners k and j
+          const ex = we * (frame[X + 2 * k] - frame[X + 2 * j]), ey = we * (frame[X + 2 * k + 1] - frame[X + 2 * j + 1]);
           bx[i] += co * ex - si * ey;
           by[i] += si * ex + co * ey;
         }

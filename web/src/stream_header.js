@@ -4,7 +4,8 @@
 import { GltfWarpError } from './errors.js';
 
 const MAGIC = [0x47, 0x57, 0x55, 0x56]; // "GWUV"
-export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04, FLAG_METHODS = 0x08, FLAG_FINE = 0x10;
+export const FLAG_ROTATIONS = 0x01, FLAG_SCALES = 0x02, FLAG_SEEDS = 0x04, FLAG_METHODS = 0x08, FLAG_FINE = 0x10,
+  FLAG_COTANGENT = 0x20;
 const MAX_ATLAS = 65536, MAX_PAGES = 65536;
 
 class ByteReader {
@@ -57,10 +58,10 @@ export function readHeader(bytes, meshFaceCount) {
   const r = new ByteReader(bytes);
   r.pos = 4;
   const major = r.u8('version_major'), minor = r.u8('version_minor');
-  if (major !== 1 || minor > 3) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
+  if (major !== 1 || minor > 4) throw new GltfWarpError('unsupported_version', `version ${major}.${minor}`);
   const flags = r.u8('flags');
   const known = FLAG_ROTATIONS | FLAG_SCALES | (minor >= 1 ? FLAG_SEEDS : 0) | (minor >= 2 ? FLAG_METHODS : 0) |
-    (minor >= 3 ? FLAG_FINE : 0);
+    (minor >= 3 ? FLAG_FINE : 0) | (minor >= 4 && flags & FLAG_METHODS ? FLAG_COTANGENT : 0);
   if (flags & ~known) throw new GltfWarpError('reserved_bits', `flags 0x${flags.toString(16)}`);
   const h = { major, minor, flags };
   h.faceCount = r.varint('face_count');
@@ -78,7 +79,8 @@ export function readHeader(bytes, meshFaceCount) {
   if (h.faceCount === 0 ? h.patchCount !== 0 : h.patchCount < 1 || h.patchCount > h.faceCount)
     throw new GltfWarpError('bad_count', `patch_count ${h.patchCount} for ${h.faceCount} faces`);
   if (flags & FLAG_METHODS) { // 1.2: the solve's step counts (section 6.7)
-    h.solve = { tutteSteps: r.varint('tutte_steps'), arapRounds: r.varint('arap_rounds'), arapSteps: r.varint('arap_steps') };
+    h.solve = { tutteSteps: r.varint('tutte_steps'), arapRounds: r.varint('arap_rounds'), arapSteps: r.varint('arap_steps'),
+      cotangent: (flags & FLAG_COTANGENT) !== 0 }; // 1.4: ARAP on cotangent weights
     if (h.solve.tutteSteps > 1024 || h.solve.arapRounds > 64 || h.solve.arapSteps > 1024)
       throw new GltfWarpError('bad_value', 'solve parameters out of range');
   }

@@ -28,7 +28,7 @@ function edited(bytes, i, v) {
   return b;
 }
 
-for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true], ['1_3', true]]) {
+for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true], ['1_3', true], ['1_4', true]]) {
   const { bytes, hash } = goldenVector(name);
 
   test(`golden ${name}: UV hash`, () => {
@@ -54,9 +54,9 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true],
     const longer = new Uint8Array(bytes.length + 1);
     longer.set(bytes);
     assert.equal(errorCode(longer), 'trailing_bytes');
-    assert.equal(errorCode(edited(bytes, 5, 4)), 'unsupported_version');
+    assert.equal(errorCode(edited(bytes, 5, 5)), 'unsupported_version');
     assert.equal(errorCode(edited(bytes, 0, 0x48)), 'bad_magic');
-    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x20)), 'reserved_bits');
+    assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x40)), 'reserved_bits');
     if (bytes[6] & 0x04) {
       assert.equal(errorCode(edited(bytes, 5, 0)), 'reserved_bits');
     } else if (bytes[5] === 0) {
@@ -74,6 +74,13 @@ for (const [name, medianSeeds] of [['1_0', false], ['1_1', true], ['1_2', true],
     } else {
       assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x10)), 'reserved_bits');
       assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 3)).uv), hash, 'minor 3 without FINE');
+    }
+    if (bytes[6] & 0x20) {
+      assert.equal(errorCode(edited(bytes, 5, 3)), 'reserved_bits');
+      assert.equal(errorCode(edited(bytes, 6, bytes[6] & ~0x08)), 'reserved_bits', 'COTANGENT without METHODS');
+    } else {
+      assert.equal(errorCode(edited(bytes, 6, bytes[6] | 0x20)), 'reserved_bits');
+      assert.equal(fnv1a64(decodeUvs(mesh, edited(bytes, 5, 4)).uv), hash, 'minor 4 without COTANGENT');
     }
   });
 
@@ -135,4 +142,21 @@ test('solve rejects patches that are not discs', () => {
   const all = Uint32Array.from({ length: 192 }, (_, f) => f);
   const whole = solvePatch(mesh.positions, mesh.indices, all, params); // the whole grid is one disc
   assert.equal(whole.verts.length, 117);
+});
+
+test('golden 1_4: cotangent weights move only the solve patches', () => {
+  const v14 = decodeUvs(mesh, goldenVector('1_4').bytes), v13 = decodeUvs(mesh, goldenVector('1_3').bytes);
+  assert.equal(v14.header.solve.cotangent, true);
+  assert.equal(v13.header.solve.cotangent, false);
+  const { method } = v14.placements;
+  const moved = new Array(method.length).fill(0), size = new Array(method.length).fill(0);
+  for (let f = 0; f < 192; ++f) {
+    const p = v14.patchOfFace[f];
+    ++size[p];
+    for (let k = 0; k < 6; ++k) if (v14.uv[6 * f + k] !== v13.uv[6 * f + k]) { ++moved[p]; break; }
+  }
+  for (let p = 0; p < method.length; ++p) {
+    if (!method[p]) assert.equal(moved[p], 0, `unfold patch ${p}`);
+    else if (size[p] > 1) assert.ok(moved[p] > 0, `solve patch ${p}`);
+  }
 });

@@ -11,6 +11,7 @@
 #include "codec/core/layout.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/mesh.h"
+#include "codec/encode/partition/solve_merge.h"
 
 namespace gltfwarp {
 
@@ -66,10 +67,10 @@ struct EmbedOptions {
   // solve of the union is fold-free, within tau and overlap-free. Off: every
   // patch unfolds and the stream stays 1.0/1.1, byte for byte as before.
   bool solve_merge = false;
-  SolveParams solve;                // the solve's iteration counts (stored in the stream)
-  uint32_t solve_max_faces = 4096;  // no solved patch larger
-  double solve_budget = 2.0;        // trial solves cover at most this x face count faces (plus 64k)
-  double solve_max_share = 1.0;     // at most this share of faces in solved patches
+  SolveParams solve = kEncoderSolveParams;  // the solve's iteration counts (stored in the stream)
+  uint32_t solve_max_faces = 4096;          // no solved patch larger
+  double solve_budget = 2.0;                // trial solves cover at most this x face count faces (plus 64k)
+  double solve_max_share = 1.0;             // at most this share of faces in solved patches
 };
 
 struct Embedding {
