@@ -94,7 +94,7 @@ Runner add_encode(CLI::App& app) {
       ->check(CLI::IsMember({"compact", "greedy"}));
   app.add_option("--layout", a->layout,
                  "unfold (every patch replays the unfolding: format 1.0/1.1), or mixed (compact: also merge "
-                 "patches whose union the solve method lays out within tau: format 1.2)")
+                 "patches whose union the solve method lays out within tau: format 1.4)")
       ->check(CLI::IsMember({"unfold", "mixed"}));
   app.add_option("--orientation", a->orientation,
                  "source (turn each patch so the source image's rows and columns run along the atlas's: "

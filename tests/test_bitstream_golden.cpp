@@ -166,6 +166,30 @@ void expect_prefixes_truncated(const std::vector<uint8_t>& golden) {
   EXPECT_EQ(decode_uvs(mesh, longer, uv), UvStatus::trailing_bytes);
 }
 
+// The floats a golden stream decodes to (empty if it does not decode).
+template <size_t N>
+std::vector<float> golden_uvs(const TriMesh& mesh, const uint8_t (&stream)[N]) {
+  std::vector<float> uv;
+  if (decode_uvs(mesh, std::vector<uint8_t>(stream, stream + N), uv) != UvStatus::ok) uv.clear();
+  return uv;
+}
+
+// Every face keeps its winding in the atlas (the golden faces are all
+// positively oriented in 1.2), reversed only on mirrored fine patches.
+void expect_windings(const TriMesh& mesh, const UvMap& map, const std::vector<float>& uv) {
+  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
+    const float* c = &uv[6 * f];
+    const double area =
+        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
+    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
+    if (pl.fine && pl.mirror) {
+      EXPECT_LT(area, 0.0) << "face " << f;
+    } else {
+      EXPECT_GT(area, 0.0) << "face " << f;
+    }
+  }
+}
+
 }  // namespace
 
 TEST(BitstreamGolden, WriterReproducesV1_0Bytes) {
@@ -338,27 +362,14 @@ TEST(BitstreamGolden, V1_3DecodesToFrozenUvs) {
   const uint64_t h = testutil::fnv1a(uv.data(), uv.size() * sizeof(float));
   EXPECT_EQ(h, golden::kUvMapV1_3UvHash) << std::hex << "0x" << h;
   // Coarse patches decode exactly as in the 1.2 stream; every fine patch moves.
-  std::vector<float> uv12;
-  ASSERT_EQ(
-      decode_uvs(mesh, std::vector<uint8_t>(std::begin(golden::kUvMapV1_2), std::end(golden::kUvMapV1_2)),
-                 uv12),
-      UvStatus::ok);
+  const std::vector<float> uv12 = golden_uvs(mesh, golden::kUvMapV1_2);
+  ASSERT_EQ(uv12.size(), uv.size());
   for (uint32_t f = 0; f < mesh.face_count(); ++f) {
     const bool eq = std::equal(&uv[6 * f], &uv[6 * f + 6], &uv12[6 * f]);
     EXPECT_EQ(eq, !map.placements[map.patch_of_face[f]].fine) << "face " << f;
   }
-  // A mirrored patch reverses the winding of its faces in the atlas; the
-  // others keep it (the golden faces are all positively oriented in 1.2).
-  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
-    const float* c = &uv[6 * f];
-    const double area =
-        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
-    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
-    if (pl.fine && pl.mirror)
-      EXPECT_LT(area, 0.0) << "face " << f;
-    else
-      EXPECT_GT(area, 0.0) << "face " << f;
-  }
+  // A mirrored patch reverses the winding of its faces in the atlas.
+  expect_windings(mesh, map, uv);
 }
 
 TEST(BitstreamGolden, V1_3EveryTruncationIsRejected) {
@@ -408,11 +419,8 @@ TEST(BitstreamGolden, V1_4DecodesToFrozenUvs) {
   EXPECT_EQ(h, golden::kUvMapV1_4UvHash) << std::hex << "0x" << h;
   // Only the solve changes: unfold patches decode exactly as in the 1.3
   // stream, and every solve patch of more than one face moves.
-  std::vector<float> uv13;
-  ASSERT_EQ(
-      decode_uvs(mesh, std::vector<uint8_t>(std::begin(golden::kUvMapV1_3), std::end(golden::kUvMapV1_3)),
-                 uv13),
-      UvStatus::ok);
+  const std::vector<float> uv13 = golden_uvs(mesh, golden::kUvMapV1_3);
+  ASSERT_EQ(uv13.size(), uv.size());
   std::vector<uint32_t> faces_in(map.patch_count, 0), moved(map.patch_count, 0);
   for (uint32_t f = 0; f < mesh.face_count(); ++f) {
     const uint32_t p = map.patch_of_face[f];
@@ -426,17 +434,8 @@ TEST(BitstreamGolden, V1_4DecodesToFrozenUvs) {
       EXPECT_GT(moved[p], 0u) << "solve patch " << p;
     }
   }
-  // Still fold-free, with the 1.3 stream's windings (mirrored patches reversed).
-  for (uint32_t f = 0; f < mesh.face_count(); ++f) {
-    const float* c = &uv[6 * f];
-    const double area =
-        (double(c[2]) - c[0]) * (double(c[5]) - c[1]) - (double(c[3]) - c[1]) * (double(c[4]) - c[0]);
-    const PatchPlacement& pl = map.placements[map.patch_of_face[f]];
-    if (pl.fine && pl.mirror)
-      EXPECT_LT(area, 0.0) << "face " << f;
-    else
-      EXPECT_GT(area, 0.0) << "face " << f;
-  }
+  // Still fold-free, with the 1.3 stream's windings.
+  expect_windings(mesh, map, uv);
 }
 
 TEST(BitstreamGolden, V1_4EveryTruncationIsRejected) {
