@@ -122,6 +122,12 @@ Runner add_info(CLI::App& app) {
           p["version"] = std::to_string(si.version_major) + "." + std::to_string(si.version_minor);
           p["solve_patches"] =
               std::count(map.methods.begin(), map.methods.end(), uint8_t(LayoutMethod::solve));
+          // 1.2: the work the stream asks of every decoder per solved face; 1.4: its ARAP weights.
+          if (si.flags & kUvFlagMethods)
+            p["solve"] = {{"tutte_steps", map.solve.tutte_iterations},
+                          {"arap_rounds", map.solve.arap_iterations},
+                          {"arap_steps", map.solve.arap_cg_iterations},
+                          {"cotangent_weights", map.solve.cotangent_weights}};
           // 1.3: patches placed on another patch's texels (texel reuse), and how many of those mirror.
           p["fine_patches"] = std::count_if(map.placements.begin(), map.placements.end(),
                                             [](const PatchPlacement& pl) { return pl.fine; });

@@ -77,3 +77,26 @@ TEST(Cli, SampleEncodeDecodeInfo) {
   ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.gltf 2>&1", &out), 0) << out;
   EXPECT_TRUE(fs::exists(dir + "/d.bin"));
 }
+
+// --layout mixed writes format 1.4 (the solve on cotangent weights), and
+// info names the solve the decoder will run.
+TEST(Cli, MixedLayoutWritesTheCotangentSolve) {
+  const std::string dir = scratch_dir("cli-mixed");
+  std::string out;
+  ASSERT_EQ(
+      run_command(cli() + " sample --shape torus --faces 3000 --texture-size 128 -o " + dir + "/s.glb 2>&1",
+                  &out),
+      0)
+      << out;
+  ASSERT_EQ(run_command(cli() + " encode --always-implicit --layout mixed " + dir + "/s.glb -o " + dir +
+                            "/e.glb 2>&1",
+                        &out),
+            0)
+      << out;
+  ASSERT_EQ(run_command(cli() + " info --json " + dir + "/e.glb 2>&1", &out), 0) << out;
+  EXPECT_NE(out.find("\"version\": \"1.4\""), std::string::npos) << out;
+  EXPECT_NE(out.find("\"cotangent_weights\": true"), std::string::npos) << out;
+  EXPECT_NE(out.find("\"arap_rounds\": 32"), std::string::npos) << out;
+  EXPECT_EQ(out.find("\"solve_patches\": 0"), std::string::npos) << out;
+  ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &out), 0) << out;
+}
