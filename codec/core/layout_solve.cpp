@@ -329,9 +329,12 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
     X[4] = dot / (l1 + kSolveTiny), X[5] = cross / (l1 + kSolveTiny);
   }
 
-  // ---- ARAP: the loop start stays pinned at the origin.
-  const bool cot = params.cotangent_weights;
-  if (cot) cotangent_laplacian(faces, idx, s, n);
+  // ---- ARAP: the loop start stays pinned at the origin. Each face edge's
+  // weight is 1 (the Laplacian stays Tutte's) or its clamped cotangent.
+  if (params.cotangent_weights)
+    cotangent_laplacian(faces, idx, s, n);
+  else
+    s.face_weight.assign(3 * nf, 1.0);
   std::fill(s.fixed.begin(), s.fixed.end(), 0);
   s.fixed[start] = 1;
   s.rot.resize(2 * nf);
@@ -343,7 +346,7 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
       for (int k = 0; k < 3; ++k) {
         const int k1 = (k + 1) % 3;
         const uint32_t i = s.local[tri[k]], j = s.local[tri[k1]];
-        const double w = cot ? s.face_weight[3 * t + k] : 1.0;
+        const double w = s.face_weight[3 * t + k];
         const double ux = w * (x[j] - x[i]), uy = w * (y[j] - y[i]);
         const double vx = X[2 * k1] - X[2 * k], vy = X[2 * k1 + 1] - X[2 * k + 1];
         a += ux * vx;
@@ -367,7 +370,7 @@ SolveStatus solve_patch(const TriMesh& mesh, std::span<const uint32_t> faces, co
           const int j = (k + m) % 3;
           const uint32_t i = s.local[tri[k]];
           // Edge (k, k+1) is face edge k; edge (k+2, k) is face edge k+2 = j.
-          const double w = cot ? s.face_weight[3 * t + (m == 1 ? k : j)] : 1.0;
+          const double w = s.face_weight[3 * t + (m == 1 ? k : j)];
           const double ex = w * (X[2 * k] - X[2 * j]), ey = w * (X[2 * k + 1] - X[2 * j + 1]);
           s.bx[i] += co * ex - si * ey;
           s.by[i] += si * ex + co * ey;

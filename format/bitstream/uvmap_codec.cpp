@@ -241,10 +241,9 @@ UvStatus read_header(Reader& r, UvStreamInfo& info) {
   const uint8_t known = kUvFlagRotations | kUvFlagScales | (info.version_minor >= 1 ? kUvFlagSeeds : 0) |
                         (info.version_minor >= 2 ? kUvFlagMethods : 0) |
                         (info.version_minor >= 3 ? kUvFlagFine : 0) |
-                        (info.version_minor >= 4 ? kUvFlagCotangent : 0);
+                        // COTANGENT qualifies the solve, so it means nothing without METHODS.
+                        (info.version_minor >= 4 && (info.flags & kUvFlagMethods) ? kUvFlagCotangent : 0);
   if (info.flags & ~known) return UvStatus::reserved_bits;
-  // COTANGENT qualifies the solve, so it means nothing without METHODS.
-  if ((info.flags & kUvFlagCotangent) && !(info.flags & kUvFlagMethods)) return UvStatus::reserved_bits;
   GW_TRY(r.varint(info.face_count));
   GW_TRY(r.f32(info.tau));
   GW_TRY(r.f32(info.texel_scale));
@@ -458,7 +457,7 @@ UvStatus write_uvmap(const UvMap& map, const TriMesh& mesh, std::vector<uint8_t>
   }
   if (!map.seeds.empty()) flags |= kUvFlagSeeds;
   if (any_solve(map)) flags |= kUvFlagMethods;
-  if (any_solve(map) && map.solve.cotangent_weights) flags |= kUvFlagCotangent;
+  if ((flags & kUvFlagMethods) && map.solve.cotangent_weights) flags |= kUvFlagCotangent;
   // Seeds are coded as their rank among their patch's faces in ascending order.
   std::vector<uint32_t> patch_faces, seed_rank;
   if (flags & kUvFlagSeeds) {

@@ -32,8 +32,8 @@ constexpr uint8_t kUvFlagScales = 1u << 1;     // per-patch scale steps are pres
 constexpr uint8_t kUvFlagSeeds = 1u << 2;      // per-patch seeds are present (minor >= 1)
 constexpr uint8_t kUvFlagMethods = 1u << 3;    // solve parameters and per-patch methods (minor >= 2)
 constexpr uint8_t kUvFlagFine = 1u << 4;       // per-patch fine placements (minor >= 3)
-constexpr uint8_t kUvFlagCotangent =
-    1u << 5;  // the solve's ARAP uses cotangent weights (minor >= 4, with METHODS)
+// The solve's ARAP uses cotangent weights (minor >= 4, only with METHODS).
+constexpr uint8_t kUvFlagCotangent = 1u << 5;
 
 // Header fields and section sizes, read without the mesh (for `gltf-warp info`).
 struct UvStreamInfo {
