@@ -171,6 +171,61 @@ TEST(LayoutSolve, MixedEmbeddingOnShapesMatchesTheDecoder) {
   EXPECT_GT(solve_patches, 0u);
 }
 
+// Interior edges whose two faces lie in different patches.
+size_t seam_edges(const TriMesh& m, std::span<const uint32_t> opp, std::span<const uint32_t> patch_of) {
+  size_t n = 0;
+  for (uint32_t c = 0; c < 3 * m.face_count(); ++c)
+    if (opp[c] != kNone && opp[c] > c && patch_of[c / 3] != patch_of[opp[c] / 3]) ++n;
+  return n;
+}
+
+// A face of the left half that pokes into the right half (two of its edges
+// on it) goes back: one seam edge fewer, both patches solved and acceptable.
+// The union is over max_faces, so only a move can straighten the seam.
+TEST(LayoutSolve, SolveMergesMoveNotchFacesAcrossTheSeam) {
+  const TriMesh m = make_plane(8, 8).mesh;
+  const uint32_t nf = m.face_count();
+  const std::vector<uint32_t> opp = build_opposite_corners(m, build_vertex_faces(m));
+  std::vector<uint32_t> patch_of(nf);
+  for (uint32_t f = 0; f < nf; ++f) {
+    double cx = 0;
+    for (int k = 0; k < 3; ++k) cx += m.positions[3 * size_t{m.indices[3 * f + k]}];
+    patch_of[f] = cx / 3 < 0.5 ? 0 : 1;
+  }
+  uint32_t notch = kNone;
+  for (uint32_t f = 0; f < nf && notch == kNone; ++f) {
+    if (patch_of[f] != 1) continue;
+    int on_left = 0, on_right = 0;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t o = opp[3 * f + k];
+      if (o != kNone) ++(patch_of[o / 3] == 0 ? on_left : on_right);
+    }
+    if (on_left == 1 && on_right == 2) notch = f;
+  }
+  ASSERT_NE(notch, kNone);
+  patch_of[notch] = 0;
+  const size_t seams_before = seam_edges(m, opp, patch_of);
+  std::vector<std::vector<uint32_t>> patches(2);
+  for (uint32_t f = 0; f < nf; ++f) patches[patch_of[f]].push_back(f);
+  std::vector<double> xy;
+  ASSERT_EQ(layout_patches(m, patch_of, 2, xy), LayoutStatus::ok);
+  std::vector<uint8_t> method;
+  SolveMergeOptions so;
+  so.max_faces = nf - 8;
+  const JoinRule any = [](std::span<const uint32_t>, std::span<const uint32_t>) { return true; };
+  EXPECT_EQ(solve_merge(m, opp, patches, xy, method, so, any), 1u);  // no merge, one face moved
+  ASSERT_EQ(patches.size(), 2u);
+  EXPECT_TRUE(std::binary_search(patches[1].begin(), patches[1].end(), notch));
+  for (uint32_t p = 0; p < 2; ++p)
+    for (uint32_t f : patches[p]) patch_of[f] = p;
+  EXPECT_LT(seam_edges(m, opp, patch_of), seams_before);
+  for (uint32_t p = 0; p < 2; ++p) {
+    EXPECT_EQ(method[p], uint8_t(LayoutMethod::solve));
+    EXPECT_TRUE(std::is_sorted(patches[p].begin(), patches[p].end()));
+    EXPECT_TRUE(solved_patch_acceptable(m, patches[p], xy, so.tau));
+  }
+}
+
 TEST(LayoutSolve, UnfoldOnlyMapsKeepTheirOlderVersion) {
   const ShapeMesh sm = make_sphere(24, 12);
   EmbedOptions eo;

@@ -1067,11 +1067,11 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
       so.budget = opt.solve_budget;
       so.max_solved_share = opt.solve_max_share;
       so.min_fill = opt.merge_min_fill;
-      const auto can_join = [&](uint32_t a, uint32_t b) {
+      const JoinRule can_join = [&](std::span<const uint32_t> a, std::span<const uint32_t> b) {
         if (!dr.active) return true;
         double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-        for (uint32_t f : patches[a]) DensityRule::extend(lo, hi, dr.at(f));
-        for (uint32_t f : patches[b]) DensityRule::extend(lo, hi, dr.at(f));
+        for (uint32_t f : a) DensityRule::extend(lo, hi, dr.at(f));
+        for (uint32_t f : b) DensityRule::extend(lo, hi, dr.at(f));
         return !(lo <= hi && hi - lo > dr.limit);
       };
       if (solve_merge(mesh, opp, patches, g.xy, methods, so, can_join) > 0) out.solve = so.params;

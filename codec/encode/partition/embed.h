@@ -64,7 +64,8 @@ struct EmbedOptions {
   std::span<const uint32_t> face_chart;
   // Compact: after the partition, merge adjacent patches into patches laid
   // out by the solve method (format 1.2, solve_merge.h) where the decoder's
-  // solve of the union is fold-free, within tau and overlap-free. Off: every
+  // solve of the union is fold-free, within tau and overlap-free, and move
+  // notch faces across seams where both patches then solve so. Off: every
   // patch unfolds and the stream stays 1.0/1.1, byte for byte as before.
   bool solve_merge = false;
   SolveParams solve = kEncoderSolveParams;  // the solve's iteration counts (stored in the stream)

@@ -89,91 +89,244 @@ bool solved_patch_acceptable(const TriMesh& mesh, std::span<const uint32_t> face
   return true;
 }
 
-size_t solve_merge(const TriMesh& mesh, std::span<const uint32_t> opp,
-                   std::vector<std::vector<uint32_t>>& patches, std::vector<double>& xy,
-                   std::vector<uint8_t>& method, const SolveMergeOptions& opt,
-                   const std::function<bool(uint32_t, uint32_t)>& can_join) {
-  const uint32_t nf = mesh.face_count();
-  const uint32_t np = static_cast<uint32_t>(patches.size());
-  method.resize(np, uint8_t(LayoutMethod::unfold));
-  std::vector<uint32_t> patch_of(nf, kNone);
-  for (uint32_t p = 0; p < np; ++p)
-    for (uint32_t f : patches[p]) patch_of[f] = p;
-  std::vector<double> fill(np, 1.0);
-  std::vector<Vec2> scratch;
-  for (uint32_t p = 0; p < np; ++p) fill[p] = patch_fill(patches[p], xy, scratch);
-  std::vector<uint32_t> version(np, 0), touched(np, 0), unite;
-  std::set<std::array<uint32_t, 4>> failed;
-  double budget = opt.budget * double(nf) + 65536.0;
-  double solved_faces = 0;
-  const double max_solved = opt.max_solved_share * double(nf);
-  std::vector<Vec2> pos(mesh.vertex_count());
-  std::vector<double> saved;
-  SolveScratch ss;
-  size_t merges = 0;
-  std::vector<uint64_t> keys;
-  std::vector<PatchPair> pairs;
-  for (int round = 1; round <= opt.rounds; ++round) {
-    adjacent_patch_pairs(opp, patch_of, keys, pairs);
-    bool merged_any = false;
-    for (const PatchPair& pr : pairs) {
-      if (touched[pr.a] == uint32_t(round) || touched[pr.b] == uint32_t(round)) continue;
-      std::vector<uint32_t>& A = patches[pr.a];
-      std::vector<uint32_t>& B = patches[pr.b];
+namespace {
+
+// One run of solve merges and seam moves over a partition (solve_merge.h).
+class SolveMerger {
+ public:
+  SolveMerger(const TriMesh& mesh, std::span<const uint32_t> opp, std::vector<std::vector<uint32_t>>& patches,
+              std::vector<double>& xy, std::vector<uint8_t>& method, const SolveMergeOptions& opt,
+              const JoinRule& can_join)
+      : mesh_(mesh), opp_(opp), patches_(patches), xy_(xy), method_(method), opt_(opt), can_join_(can_join) {
+    const uint32_t nf = mesh.face_count();
+    const uint32_t np = static_cast<uint32_t>(patches.size());
+    method_.resize(np, uint8_t(LayoutMethod::unfold));
+    patch_of_.assign(nf, kNone);
+    for (uint32_t p = 0; p < np; ++p)
+      for (uint32_t f : patches[p]) patch_of_[f] = p;
+    fill_.assign(np, 1.0);
+    for (uint32_t p = 0; p < np; ++p) fill_[p] = patch_fill(patches[p], xy, scratch_);
+    version_.assign(np, 0);
+    touched_.assign(np, 0);
+    budget_ = opt.budget * double(nf) + 65536.0;
+    max_solved_ = opt.max_solved_share * double(nf);
+    pos_.resize(mesh.vertex_count());
+  }
+
+  size_t run() {
+    for (int round = 1; round <= opt_.rounds && budget_ > 0; ++round) {
+      const size_t before = merges_ + moves_;
+      merge_round(uint32_t(2 * round - 1));
+      move_round(uint32_t(2 * round));
+      if (merges_ + moves_ == before) break;
+    }
+    return merges_ + moves_;
+  }
+
+ private:
+  // Unions of adjacent patches, most shared edges first, each patch in at most one per round.
+  void merge_round(uint32_t stamp) {
+    adjacent_patch_pairs(opp_, patch_of_, keys_, pairs_);
+    for (const PatchPair& pr : pairs_) {
+      if (touched_[pr.a] == stamp || touched_[pr.b] == stamp) continue;
+      std::vector<uint32_t>& A = patches_[pr.a];
+      std::vector<uint32_t>& B = patches_[pr.b];
       const size_t n = A.size() + B.size();
-      if (n > opt.max_faces) continue;
-      const double newly = double(method[pr.a] ? 0 : A.size()) + double(method[pr.b] ? 0 : B.size());
-      if (solved_faces + newly > max_solved) continue;
-      const std::array<uint32_t, 4> memo = {pr.a, version[pr.a], pr.b, version[pr.b]};
-      if (failed.count(memo)) continue;
-      if (!can_join(pr.a, pr.b)) continue;
-      if (budget < double(n)) return merges;
-      budget -= double(n);
-      unite.assign(A.begin(), A.end());
-      unite.insert(unite.end(), B.begin(), B.end());
-      std::sort(unite.begin(), unite.end());
-      bool ok = solve_patch(mesh, unite, opt.params, pos, ss) == SolveStatus::ok;
-      if (ok) {
-        saved.resize(6 * n);
-        for (size_t i = 0; i < n; ++i) {
-          const uint32_t f = unite[i];
-          std::copy_n(&xy[6 * size_t{f}], 6, &saved[6 * i]);
-          for (int k = 0; k < 3; ++k) {
-            const Vec2 q = pos[mesh.indices[3 * size_t{f} + k]];
-            xy[6 * size_t{f} + 2 * k] = q.x;
-            xy[6 * size_t{f} + 2 * k + 1] = q.y;
-          }
-        }
-        ok = solved_patch_acceptable(mesh, unite, xy, opt.tau);
-        double fu = 0;
-        if (ok) {
-          fu = patch_fill(unite, xy, scratch);
-          ok = fu >= std::min(opt.min_fill, std::min(fill[pr.a], fill[pr.b]));
-        }
-        if (ok) {
-          fill[pr.a] = fu;
-        } else {
-          for (size_t i = 0; i < n; ++i) std::copy_n(&saved[6 * i], 6, &xy[6 * size_t{unite[i]}]);
-        }
-      }
+      if (n > opt_.max_faces) continue;
+      const double newly = unsolved(pr.a) + unsolved(pr.b);
+      if (solved_faces_ + newly > max_solved_) continue;
+      const std::array<uint32_t, 4> memo = {pr.a, version_[pr.a], pr.b, version_[pr.b]};
+      if (failed_merges_.count(memo)) continue;
+      if (!can_join_(A, B)) continue;
+      if (budget_ < double(n)) return;
+      budget_ -= double(n);
+      unite_.assign(A.begin(), A.end());
+      unite_.insert(unite_.end(), B.begin(), B.end());
+      std::sort(unite_.begin(), unite_.end());
+      begin_trial();
+      double fu = 0;
+      const bool ok = lay_out(unite_, std::min(fill_[pr.a], fill_[pr.b]), fu);
       if (!ok) {
-        failed.insert(memo);
+        restore();
+        failed_merges_.insert(memo);
         continue;
       }
-      touched[pr.a] = touched[pr.b] = uint32_t(round);
-      solved_faces += newly;
-      for (uint32_t f : B) patch_of[f] = pr.a;
-      A = unite;
+      fill_[pr.a] = fu;
+      touched_[pr.a] = touched_[pr.b] = stamp;
+      solved_faces_ += newly;
+      for (uint32_t f : B) patch_of_[f] = pr.a;
+      A = unite_;
       B.clear();
-      method[pr.a] = uint8_t(LayoutMethod::solve);
-      method[pr.b] = uint8_t(LayoutMethod::unfold);
-      ++version[pr.a];
-      ++merges;
-      merged_any = true;
+      method_[pr.a] = uint8_t(LayoutMethod::solve);
+      method_[pr.b] = uint8_t(LayoutMethod::unfold);
+      ++version_[pr.a];
+      ++merges_;
     }
-    if (!merged_any) break;
   }
-  return merges;
+
+  // Seam moves: a face with two or three edges on patch B (a notch or a
+  // hole in A's outline) moves to B, one or three seam edges fewer, when
+  // both patches still solve within the rules. The faces of one (A, B) pair
+  // move as a batch, most faces first. Both patches become solve patches.
+  void move_round(uint32_t stamp) {
+    struct Move {
+      uint32_t a, b, f;
+    };
+    std::vector<Move> moves;
+    const uint32_t nf = mesh_.face_count();
+    for (uint32_t f = 0; f < nf; ++f) {
+      const uint32_t a = patch_of_[f];
+      if (a == kNone) continue;
+      uint32_t nb[3], n = 0;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t o = opp_[3 * size_t{f} + k];
+        if (o != kNone && patch_of_[o / 3] != a && patch_of_[o / 3] != kNone) nb[n++] = patch_of_[o / 3];
+      }
+      uint32_t b = kNone;
+      if (n >= 2 && nb[0] == nb[1])
+        b = nb[0];
+      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2]))
+        b = nb[2];
+      if (b != kNone) moves.push_back({a, b, f});
+    }
+    std::stable_sort(moves.begin(), moves.end(),
+                     [](const Move& l, const Move& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
+    struct Group {
+      size_t begin, end;
+    };
+    std::vector<Group> groups;
+    for (size_t i = 0; i < moves.size();) {
+      size_t j = i;
+      while (j < moves.size() && moves[j].a == moves[i].a && moves[j].b == moves[i].b) ++j;
+      groups.push_back({i, j});
+      i = j;
+    }
+    std::stable_sort(groups.begin(), groups.end(),
+                     [](const Group& l, const Group& r) { return l.end - l.begin > r.end - r.begin; });
+    std::vector<uint32_t> moved;
+    for (const Group& gr : groups) {
+      const uint32_t a = moves[gr.begin].a, b = moves[gr.begin].b;
+      if (touched_[a] == stamp || touched_[b] == stamp) continue;
+      const std::array<uint32_t, 4> memo = {a, version_[a], b, version_[b]};
+      if (failed_moves_.count(memo)) continue;
+      // The whole batch, else (it may fold or stretch where one face does
+      // not) its faces one at a time, up to a few.
+      moved.clear();
+      for (size_t t = gr.begin; t < gr.end; ++t) moved.push_back(moves[t].f);
+      bool done = try_move(a, b, moved, stamp);
+      for (size_t t = gr.begin; !done && gr.end - gr.begin > 1 && t < std::min(gr.end, gr.begin + 8); ++t) {
+        moved.assign(1, moves[t].f);
+        done = try_move(a, b, moved, stamp);
+      }
+      if (!done) failed_moves_.insert(memo);
+      if (budget_ <= 0) return;
+    }
+  }
+
+  // Moves the faces `moved` (ascending) from patch a to patch b if both then
+  // solve within the rules; false (nothing changed) otherwise.
+  bool try_move(uint32_t a, uint32_t b, const std::vector<uint32_t>& moved, uint32_t stamp) {
+    std::vector<uint32_t>& A = patches_[a];
+    std::vector<uint32_t>& B = patches_[b];
+    if (moved.size() >= A.size()) return false;  // all of A: a merge, not a move
+    if (B.size() + moved.size() > opt_.max_faces || A.size() > opt_.max_faces) return false;
+    const double newly = unsolved(a) + unsolved(b);
+    if (solved_faces_ + newly > max_solved_) return false;
+    if (!can_join_(B, moved)) return false;
+    const double n = double(A.size() + B.size());
+    if (budget_ < n) {
+      budget_ = 0;
+      return false;
+    }
+    budget_ -= n;
+    rest_.clear();
+    for (uint32_t f : A)
+      if (!std::binary_search(moved.begin(), moved.end(), f)) rest_.push_back(f);
+    std::sort(rest_.begin(), rest_.end());
+    unite_.assign(B.begin(), B.end());
+    unite_.insert(unite_.end(), moved.begin(), moved.end());
+    std::sort(unite_.begin(), unite_.end());
+    begin_trial();
+    double fa = 0, fb = 0;
+    if (!lay_out(rest_, fill_[a], fa) || !lay_out(unite_, fill_[b], fb)) {
+      restore();
+      return false;
+    }
+    for (uint32_t f : moved) patch_of_[f] = b;
+    A = rest_;
+    B = unite_;
+    fill_[a] = fa;
+    fill_[b] = fb;
+    touched_[a] = touched_[b] = stamp;
+    solved_faces_ += newly;
+    method_[a] = method_[b] = uint8_t(LayoutMethod::solve);
+    ++version_[a];
+    ++version_[b];
+    moves_ += moved.size();
+    return true;
+  }
+
+  double unsolved(uint32_t p) const { return method_[p] ? 0.0 : double(patches_[p].size()); }
+
+  // Solves the face set (ascending) as one patch and writes its positions to
+  // xy, saving what they replace; true when the decoder's result passes
+  // solved_patch_acceptable and keeps a fill of at least min_fill
+  // (min(options' floor, the parts')). fill_out: its fill.
+  bool lay_out(const std::vector<uint32_t>& faces, double min_fill, double& fill_out) {
+    if (solve_patch(mesh_, faces, opt_.params, pos_, ss_) != SolveStatus::ok) return false;
+    for (const uint32_t f : faces) {
+      saved_faces_.push_back(f);
+      const size_t at = saved_.size();
+      saved_.resize(at + 6);
+      std::copy_n(&xy_[6 * size_t{f}], 6, &saved_[at]);
+      for (int k = 0; k < 3; ++k) {
+        const Vec2 q = pos_[mesh_.indices[3 * size_t{f} + k]];
+        xy_[6 * size_t{f} + 2 * k] = q.x;
+        xy_[6 * size_t{f} + 2 * k + 1] = q.y;
+      }
+    }
+    if (!solved_patch_acceptable(mesh_, faces, xy_, opt_.tau)) return false;
+    fill_out = patch_fill(faces, xy_, scratch_);
+    return fill_out >= std::min(opt_.min_fill, min_fill);
+  }
+
+  void begin_trial() {
+    saved_faces_.clear();
+    saved_.clear();
+  }
+
+  // Puts back the positions lay_out replaced since begin_trial (latest first).
+  void restore() {
+    for (size_t i = saved_faces_.size(); i-- > 0;)
+      std::copy_n(&saved_[6 * i], 6, &xy_[6 * size_t{saved_faces_[i]}]);
+    saved_faces_.clear();
+    saved_.clear();
+  }
+
+  const TriMesh& mesh_;
+  std::span<const uint32_t> opp_;
+  std::vector<std::vector<uint32_t>>& patches_;
+  std::vector<double>& xy_;
+  std::vector<uint8_t>& method_;
+  const SolveMergeOptions& opt_;
+  const JoinRule& can_join_;
+  std::vector<uint32_t> patch_of_, version_, touched_, unite_, rest_, saved_faces_;
+  std::vector<double> fill_, saved_;
+  std::set<std::array<uint32_t, 4>> failed_merges_, failed_moves_;
+  double budget_ = 0, solved_faces_ = 0, max_solved_ = 0;
+  size_t merges_ = 0, moves_ = 0;
+  std::vector<Vec2> pos_, scratch_;
+  SolveScratch ss_;
+  std::vector<uint64_t> keys_;
+  std::vector<PatchPair> pairs_;
+};
+
+}  // namespace
+
+size_t solve_merge(const TriMesh& mesh, std::span<const uint32_t> opp,
+                   std::vector<std::vector<uint32_t>>& patches, std::vector<double>& xy,
+                   std::vector<uint8_t>& method, const SolveMergeOptions& opt, const JoinRule& can_join) {
+  return SolveMerger(mesh, opp, patches, xy, method, opt, can_join).run();
 }
 
 }  // namespace gltfwarp
