@@ -40,6 +40,7 @@
 #include "codec/core/geometry2d.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
+#include "codec/encode/partition/notch_moves.h"
 #include "codec/encode/partition/patch_pairs.h"
 #include "codec/encode/partition/solve_merge.h"
 
@@ -836,20 +837,14 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
                         double budget_x, const DensityRule& dr, std::vector<std::vector<uint32_t>>& patches) {
   const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
   double budget = budget_x * double(nf) + kBudgetFloor;
-  struct Group {
-    size_t begin, end;
-  };
-  std::vector<Group> groups;
+  std::vector<NotchGroup> groups;
   std::vector<uint32_t> touched(patches.size(), 0), faces, verts, keep, grow_b;
   std::vector<double> saved;
   std::vector<uint32_t> saved_faces, saved_patch;
   uint32_t label = 0;
   for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
   size_t moved_total = 0;
-  struct Move {
-    uint32_t a, b, f;
-  };
-  std::vector<Move> moves;
+  std::vector<NotchMove> moves;
   // Regrows the face set `set` as patch `id`; true if it grew whole.
   auto regrow = [&](const std::vector<uint32_t>& set, uint32_t id) {
     if (set.empty()) return true;
@@ -861,36 +856,10 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
     return ok;
   };
   for (int round = 1; round <= rounds; ++round) {
-    moves.clear();
-    for (uint32_t f = 0; f < nf; ++f) {
-      const uint32_t a = g.face_patch[f];
-      uint32_t nb[3], n = 0;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t o = opp[3 * f + k];
-        if (o != kNone && g.face_patch[o / 3] != a) nb[n++] = g.face_patch[o / 3];
-      }
-      uint32_t b = kNone;
-      if (n >= 2 && nb[0] == nb[1])
-        b = nb[0];
-      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2]))
-        b = nb[2];
-      if (b != kNone) moves.push_back({a, b, f});
-    }
+    notch_moves(opp, g.face_patch, moves, groups);
     if (moves.empty()) break;
-    std::stable_sort(moves.begin(), moves.end(),
-                     [](const Move& l, const Move& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
-    groups.clear();
-    for (size_t i = 0; i < moves.size();) {
-      size_t j = i;
-      while (j < moves.size() && moves[j].a == moves[i].a && moves[j].b == moves[i].b) ++j;
-      groups.push_back({i, j});
-      i = j;
-    }
-    // Most faces to move first: the budget goes where the seams shrink most.
-    std::stable_sort(groups.begin(), groups.end(),
-                     [](const Group& l, const Group& r) { return l.end - l.begin > r.end - r.begin; });
     size_t moved = 0;
-    for (const Group& gr : groups) {
+    for (const NotchGroup& gr : groups) {
       const size_t i = gr.begin, j = gr.end;
       const uint32_t a = moves[i].a, b = moves[i].b;
       if (touched[a] == uint32_t(round) || touched[b] == uint32_t(round)) continue;

@@ -13,6 +13,7 @@
 #include "codec/core/layout.h"
 #include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
+#include "codec/encode/partition/notch_moves.h"
 #include "codec/encode/partition/patch_pairs.h"
 
 namespace gltfwarp {
@@ -169,53 +170,20 @@ class SolveMerger {
   // both patches still solve within the rules. The faces of one (A, B) pair
   // move as a batch, most faces first. Both patches become solve patches.
   void move_round(uint32_t stamp) {
-    struct Move {
-      uint32_t a, b, f;
-    };
-    std::vector<Move> moves;
-    const uint32_t nf = mesh_.face_count();
-    for (uint32_t f = 0; f < nf; ++f) {
-      const uint32_t a = patch_of_[f];
-      if (a == kNone) continue;
-      uint32_t nb[3], n = 0;
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t o = opp_[3 * size_t{f} + k];
-        if (o != kNone && patch_of_[o / 3] != a && patch_of_[o / 3] != kNone) nb[n++] = patch_of_[o / 3];
-      }
-      uint32_t b = kNone;
-      if (n >= 2 && nb[0] == nb[1])
-        b = nb[0];
-      else if (n == 3 && (nb[0] == nb[2] || nb[1] == nb[2]))
-        b = nb[2];
-      if (b != kNone) moves.push_back({a, b, f});
-    }
-    std::stable_sort(moves.begin(), moves.end(),
-                     [](const Move& l, const Move& r) { return l.a != r.a ? l.a < r.a : l.b < r.b; });
-    struct Group {
-      size_t begin, end;
-    };
-    std::vector<Group> groups;
-    for (size_t i = 0; i < moves.size();) {
-      size_t j = i;
-      while (j < moves.size() && moves[j].a == moves[i].a && moves[j].b == moves[i].b) ++j;
-      groups.push_back({i, j});
-      i = j;
-    }
-    std::stable_sort(groups.begin(), groups.end(),
-                     [](const Group& l, const Group& r) { return l.end - l.begin > r.end - r.begin; });
+    notch_moves(opp_, patch_of_, moves_found_, groups_);
     std::vector<uint32_t> moved;
-    for (const Group& gr : groups) {
-      const uint32_t a = moves[gr.begin].a, b = moves[gr.begin].b;
+    for (const NotchGroup& gr : groups_) {
+      const uint32_t a = moves_found_[gr.begin].a, b = moves_found_[gr.begin].b;
       if (touched_[a] == stamp || touched_[b] == stamp) continue;
       const std::array<uint32_t, 4> memo = {a, version_[a], b, version_[b]};
       if (failed_moves_.count(memo)) continue;
       // The whole batch, else (it may fold or stretch where one face does
       // not) its faces one at a time, up to a few.
       moved.clear();
-      for (size_t t = gr.begin; t < gr.end; ++t) moved.push_back(moves[t].f);
+      for (size_t t = gr.begin; t < gr.end; ++t) moved.push_back(moves_found_[t].f);
       bool done = try_move(a, b, moved, stamp);
       for (size_t t = gr.begin; !done && gr.end - gr.begin > 1 && t < std::min(gr.end, gr.begin + 8); ++t) {
-        moved.assign(1, moves[t].f);
+        moved.assign(1, moves_found_[t].f);
         done = try_move(a, b, moved, stamp);
       }
       if (!done) failed_moves_.insert(memo);
@@ -319,6 +287,8 @@ class SolveMerger {
   SolveScratch ss_;
   std::vector<uint64_t> keys_;
   std::vector<PatchPair> pairs_;
+  std::vector<NotchMove> moves_found_;
+  std::vector<NotchGroup> groups_;
 };
 
 }  // namespace
