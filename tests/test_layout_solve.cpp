@@ -171,14 +171,6 @@ TEST(LayoutSolve, MixedEmbeddingOnShapesMatchesTheDecoder) {
   EXPECT_GT(solve_patches, 0u);
 }
 
-// Interior edges whose two faces lie in different patches.
-size_t seam_edges(const TriMesh& m, std::span<const uint32_t> opp, std::span<const uint32_t> patch_of) {
-  size_t n = 0;
-  for (uint32_t c = 0; c < 3 * m.face_count(); ++c)
-    if (opp[c] != kNone && opp[c] > c && patch_of[c / 3] != patch_of[opp[c] / 3]) ++n;
-  return n;
-}
-
 // A face of the left half that pokes into the right half (two of its edges
 // on it) goes back: one seam edge fewer, both patches solved and acceptable.
 // The union is over max_faces, so only a move can straighten the seam.
@@ -204,11 +196,11 @@ TEST(LayoutSolve, SolveMergesMoveNotchFacesAcrossTheSeam) {
   }
   ASSERT_NE(notch, kNone);
   patch_of[notch] = 0;
-  const size_t seams_before = seam_edges(m, opp, patch_of);
   std::vector<std::vector<uint32_t>> patches(2);
   for (uint32_t f = 0; f < nf; ++f) patches[patch_of[f]].push_back(f);
   std::vector<double> xy;
   ASSERT_EQ(layout_patches(m, patch_of, 2, xy), LayoutStatus::ok);
+  const uint32_t seams_before = measure_embedding(m, patch_of, 2, xy).seam_edges;
   std::vector<uint8_t> method;
   SolveMergeOptions so;
   so.max_faces = nf - 8;
@@ -218,7 +210,7 @@ TEST(LayoutSolve, SolveMergesMoveNotchFacesAcrossTheSeam) {
   EXPECT_TRUE(std::binary_search(patches[1].begin(), patches[1].end(), notch));
   for (uint32_t p = 0; p < 2; ++p)
     for (uint32_t f : patches[p]) patch_of[f] = p;
-  EXPECT_LT(seam_edges(m, opp, patch_of), seams_before);
+  EXPECT_LT(measure_embedding(m, patch_of, 2, xy).seam_edges, seams_before);
   for (uint32_t p = 0; p < 2; ++p) {
     EXPECT_EQ(method[p], uint8_t(LayoutMethod::solve));
     EXPECT_TRUE(std::is_sorted(patches[p].begin(), patches[p].end()));

@@ -267,8 +267,7 @@ class SolveMerger {
   void restore() {
     for (size_t i = saved_faces_.size(); i-- > 0;)
       std::copy_n(&saved_[6 * i], 6, &xy_[6 * size_t{saved_faces_[i]}]);
-    saved_faces_.clear();
-    saved_.clear();
+    begin_trial();
   }
 
   const TriMesh& mesh_;
