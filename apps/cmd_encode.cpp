@@ -66,7 +66,7 @@ std::string density_text(const EncodeOptions& o) {
 Runner add_encode(CLI::App& app) {
   struct Args {
     std::vector<std::string> inputs;
-    std::string out, geometry, partition, layout, orientation, texel_density, texel_budget;
+    std::string out, geometry, partition, layout, orientation, texel_density, texel_budget, quality;
     EncodeOptions opt;
     BatchOptions batch;
     std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
@@ -153,14 +153,22 @@ Runner add_encode(CLI::App& app) {
          "goes up 1.5x, then 2x; still below, the primitives keep explicit UVs. Default: 38 with auto "
          "density, off when --texel-density is given; 0: off")
       ->check(CLI::Range(0.0, 99.0));
-  app.add_option(
-         "--target-psnr,--goal-psnr", a->opt.goal_psnr,
-         "Quality in dB the density aims at (surface PSNR of each atlas against its sources): below it the "
-         "density goes up 1.5x, then 2x, and texels are never halved below it. Default: 44 (near "
-         "transparency) with PNG atlases, where an atlas that then outweighs its sources keeps explicit "
-         "UVs; with JPEG atlases 40, bounding only the halving. 0: trade quality for bytes down to "
-         "--min-psnr")
-      ->check(CLI::Range(-1.0, 99.0));
+  CLI::Option* target =
+      app.add_option("--target-psnr,--goal-psnr", a->opt.goal_psnr,
+                     "Quality in dB the density aims at (surface PSNR of each atlas against its "
+                     "sources): below it the density goes up 1.5x, then 2x, and texels are never "
+                     "halved below it. With a lossy coder (JPEG or WebP) and no --image-quality, "
+                     "the encoder also chooses the coder's quality: the one whose atlas reaches "
+                     "the target with the fewest bytes. Default: 44 (near transparency) with PNG "
+                     "atlases, where an atlas that then outweighs its sources keeps explicit UVs; "
+                     "with JPEG atlases 40, bounding only the halving. 0: trade quality for bytes "
+                     "down to --min-psnr")
+          ->check(CLI::Range(-1.0, 99.0));
+  app.add_option("--quality", a->quality,
+                 "A target as a word: high (44 dB, near transparency), medium (40 dB) or low (38 dB, the "
+                 "floor); the same as that --target-psnr")
+      ->check(CLI::IsMember({"high", "medium", "low"}))
+      ->excludes(target);
   app.add_flag(
       "!--fixed-density", a->opt.adaptive_density,
       "Keep every patch at its measured density (default: patches whose content is smooth have their "
@@ -191,6 +199,7 @@ Runner add_encode(CLI::App& app) {
     opt.greedy_partition = a->partition == "greedy";
     opt.mixed_layout = a->layout == "mixed";
     opt.orient_to_source = a->orientation == "source";
+    if (!a->quality.empty()) opt.goal_psnr = a->quality == "high" ? 44 : a->quality == "medium" ? 40 : 38;
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile
                                                   : DensityMode::preserve_texel_count;

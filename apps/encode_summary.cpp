@@ -23,12 +23,14 @@ nlohmann::json equal_quality(const EncodeReport& report) {
   nlohmann::json kept = nlohmann::json::array(), explicit_kept = nlohmann::json::array();
   for (const auto& a : report.atlases)
     if (a.explicit_bytes > 0)
-      kept.push_back({{"bytes", a.file_bytes},
-                      {"psnr_db", round2(a.psnr)},
-                      {"explicit_bytes", a.explicit_bytes},
-                      {"explicit_psnr_db",
-                       a.explicit_psnr > 0 ? nlohmann::json(round2(a.explicit_psnr)) : nlohmann::json()},
-                      {"explicit_images", explicit_images(a.explicit_image_quality, a.explicit_image_mime)}});
+      kept.push_back(
+          {{"bytes", a.file_bytes},
+           {"psnr_db", round2(a.psnr)},
+           {"explicit_bytes", a.explicit_bytes},
+           {"explicit_psnr_db",
+            a.explicit_psnr > 0 ? nlohmann::json(round2(a.explicit_psnr)) : nlohmann::json()},
+           {"explicit_images", explicit_images(a.explicit_image_quality, a.explicit_image_mime)},
+           {"image_quality", a.image_quality > 0 ? nlohmann::json(a.image_quality) : nlohmann::json()}});
   for (const auto& p : report.primitives)
     if (p.handling == Handling::fallback && p.fallback.reason == FallbackReason::explicit_smaller) {
       const Fallback& f = p.fallback;

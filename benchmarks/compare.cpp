@@ -13,8 +13,9 @@
 //   - the Draco-12 explicit-UV file with the original images (the baseline
 //     a user would otherwise ship);
 //   - the rate-distortion curves the BD-rate compares (issue 16; report.py,
-//     bdrate.py): ours at default, --fixed-density, PNG and a JPEG quality
-//     ladder; baseline 1, the Draco-12 explicit-UV file with the source
+//     bdrate.py): ours at default, --fixed-density, PNG, a JPEG quality
+//     ladder and JPEG under rate control (--target-psnr 40 and 44, the
+//     quality chosen by the encoder); baseline 1, the Draco-12 explicit-UV file with the source
 //     images of the TEXCOORD_0 slots through the same image encoder at the
 //     same settings (the ladder, PNG on top); baseline 2, the same with the
 //     images downscaled 0.71x and 0.5x first;
@@ -795,10 +796,14 @@ int main(int argc, char** argv) {
       bool fixed_density = false;
       double target_psnr = -1;  // EncodeOptions::goal_psnr (-1: the default aim)
     };
-    std::vector<Variant> vs = {{"fixed density", "keep", 0, true},
-                               {"png", "png", 0, false},
-                               {"png target 40", "png", 0, false, 40},
-                               {"png traded down", "png", 0, false, 0}};
+    std::vector<Variant> vs = {
+        {"fixed density", "keep", 0, true},
+        {"png", "png", 0, false},
+        {"png target 40", "png", 0, false, 40},
+        {"png traded down", "png", 0, false, 0},
+        // Rate control: the JPEG quality chosen for the target (--quality medium, high).
+        {"jpeg target 40", "jpeg", 0, false, 40},
+        {"jpeg target 44", "jpeg", 0, false, 44}};
     for (int q : ladder) vs.push_back({"jpeg q" + std::to_string(q), "jpeg", q, false});
     for (const auto& v : vs) {
       EncodeOptions o = defaults;

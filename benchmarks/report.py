@@ -266,7 +266,7 @@ def plot(rows, path):
     nrows = (n + cols - 1) // cols
     fig, axes = plt.subplots(nrows, cols, figsize=(5.4 * cols, 4.2 * nrows), squeeze=False)
     styles = (  # (curve, scale or None, marker, colour, label)
-        ("ours", None, "o", "tab:blue", "gltf-warp (default, fixed density, PNG, JPEG ladder)"),
+        ("ours", None, "o", "tab:blue", "gltf-warp (default, fixed density, PNG, JPEG ladder, JPEG rate control)"),
         ("b1", 1.0, "s", "tab:orange", "B1: Draco-12 explicit UVs + source images, same encoder"),
         ("b2", 0.71, "^", "tab:green", "B2: same, images ×0.71"),
         ("b2", 0.5, "v", "tab:olive", "B2: same, images ×0.5"),

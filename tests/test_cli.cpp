@@ -50,6 +50,9 @@ TEST(Cli, BadInputGivesOneLineErrorAndNoOutput) {
   expect_one_line_failure("encode");
   expect_one_line_failure("frobnicate");
   expect_one_line_failure("encode " + dir + "/broken.gltf -o " + dir + "/out.glb --max-distortion 0.5");
+  expect_one_line_failure("encode " + dir + "/broken.gltf -o " + dir +
+                          "/out.glb --quality high --target-psnr 40");
+  expect_one_line_failure("encode " + dir + "/broken.gltf -o " + dir + "/out.glb --quality best");
 }
 
 TEST(Cli, SampleEncodeDecodeInfo) {

@@ -13,6 +13,7 @@
 #include "codec/encode/explicit_alternative.h"
 #include "codec/encode/group_atlas.h"
 #include "codec/encode/implicit_uv_encoder.h"
+#include "codec/encode/quality_search.h"
 #include "codec/encode/texture/image_io.h"
 #include "format/gltf/draco_geometry.h"
 #include "format/gltf/extension.h"
@@ -239,9 +240,11 @@ constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
 // least added error, while the group's error stays under the floor (plus
 // half a dB of margin), and while the images are already no larger than
 // their sources, above the quality goal too (or where it is, if below). A
-// round's result is kept only if its own measurement holds the floor and its
-// images are smaller; otherwise the previous atlas stays (the plan's UVs
-// are decoded back from its bitstreams, follow_streams) and the search stops.
+// round's result is kept only if its own measurement holds the floor (and
+// the goal, where the goal bounds the halving: "never halved below it") and
+// its images are smaller; a round below them is tried again with fewer
+// patches halved, else the previous atlas stays (the plan's UVs are decoded
+// back from its bitstreams, follow_streams) and the search stops.
 Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                              const EncodeOptions& options, SourceImages& sources, double factor,
                              double min_psnr, const QualityAim& aim, GroupAtlas& built) {
@@ -256,8 +259,11 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
     // aim) give up no quality below the goal: an atlas under it stays as it
     // is, one above it goes no lower.
     double target = min_psnr + 0.5;
-    if (aim.strict || built.report.atlas_image_bytes <= source_bytes)
+    double hold = min_psnr;  // what the round's own measurement must keep
+    if (aim.strict || built.report.atlas_image_bytes <= source_bytes) {
       target = std::max(target, std::min(aim.goal, built.error.psnr()));
+      hold = std::max(hold, std::min(aim.goal, built.floor_psnr()));
+    }
     const double budget = double(built.error.values) * 255.0 * 255.0 / std::pow(10.0, target / 10.0);
     StepBias all_down = bias;
     for (auto& b : all_down)
@@ -282,33 +288,41 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
     std::sort(choices.begin(), choices.end(), [](const Choice& a, const Choice& b) {
       return a.added * b.saved < b.added * a.saved;  // least added error per texel saved first
     });
-    std::vector<uint8_t> lower(built.patch_count, 0);
     size_t taken = 0;
     for (const Choice& c : choices) {
       if (squared + c.added > budget) break;
       squared += c.added;
-      lower[c.patch] = 1;
       ++taken;
     }
-    if (taken == 0) break;
-    StepBias next = bias;
-    for (size_t k = 0, offset = 0; k < next.size(); ++k) {
-      for (size_t p = 0; p < next[k].size(); ++p)
-        if (lower[offset + p]) next[k][p] += kStep;
-      offset += next[k].size();
-    }
-    GroupAtlas chosen;
-    if (Error e = build_group_atlas(model, plan, group, options, sources, factor, next, chosen); e.failed())
-      return e;
-    // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
-    // checker compresses worse): keep a round only if the bytes fell too.
-    if (chosen.error.values > 0 && chosen.floor_psnr() >= min_psnr && !chosen.capped &&
-        chosen.report.atlas_image_bytes < built.report.atlas_image_bytes) {
+    // The per-patch errors predict the round's well where the coder is
+    // lossless; a lossy coder's loss does not add up patch by patch, so a
+    // round can land below `hold`. Then half as many patches are halved,
+    // twice at most, before the search stops.
+    bool kept = false;
+    for (int attempt = 0; attempt < 3 && taken > 0 && !kept; ++attempt, taken /= 2) {
+      std::vector<uint8_t> lower(built.patch_count, 0);
+      for (size_t i = 0; i < taken; ++i) lower[choices[i].patch] = 1;
+      StepBias next = bias;
+      for (size_t k = 0, offset = 0; k < next.size(); ++k) {
+        for (size_t p = 0; p < next[k].size(); ++p)
+          if (lower[offset + p]) next[k][p] += kStep;
+        offset += next[k].size();
+      }
+      GroupAtlas chosen;
+      if (Error e = build_group_atlas(model, plan, group, options, sources, factor, next, chosen); e.failed())
+        return e;
+      // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
+      // checker compresses worse): keep a round only if the bytes fell too.
+      if (chosen.error.values == 0 || chosen.capped ||
+          chosen.report.atlas_image_bytes >= built.report.atlas_image_bytes)
+        break;
+      if (chosen.floor_psnr() < hold) continue;
       built = std::move(chosen);
       bias = std::move(next);
       plan_follows_built = true;
-      continue;
+      kept = true;
     }
+    if (kept) continue;
     // Back to the last kept atlas: the plan's UVs follow the last build.
     return follow_streams(plan, group, built);
   }
@@ -343,6 +357,60 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
     }
   }
   return {};
+}
+
+// The group's atlas at one coder setting: built up to the floor (and the
+// aim), then its headroom above the floor spent on fewer texels.
+Error build_adapted(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                    const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
+                    double min_psnr, const QualityAim& aim, GroupAtlas& built) {
+  double factor_used = factors[0];
+  if (Error e =
+          build_to_floor(model, plan, group, options, sources, factors, min_psnr, aim, built, factor_used);
+      e.failed())
+    return e;
+  if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
+      built.floor_psnr() >= min_psnr + 0.5)
+    return spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, aim, built);
+  return {};
+}
+
+// Rate control runs where the user set a target (--target-psnr or
+// --quality) but no coder quality, and the group codes a colour slot lossily
+// (JPEG or WebP): then the quality is the encoder's to choose.
+bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options) {
+  if (!(options.goal_psnr > 0) || options.image_quality > 0) return false;
+  for (const SlotSource& source : slot_sources(model, group))
+    if (slot_coding(model, source, options).lossy) return true;
+  return false;
+}
+
+// The coder quality (quality_search.h) whose adapted atlas reaches the aim
+// (and the floor) with the fewest image bytes: `built` is that atlas, the
+// plan's UVs follow it, and `quality` is set.
+Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
+                           const EncodeOptions& options, SourceImages& sources,
+                           const std::vector<double>& factors, double min_psnr, const QualityAim& aim,
+                           GroupAtlas& built, int& quality) {
+  std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
+  auto run = [&](int q, QualityTrial& trial) -> Error {
+    EncodeOptions o = options;
+    o.image_quality = q;
+    GroupAtlas& atlas = atlases[q];
+    if (Error e = build_adapted(model, plan, group, o, sources, factors, min_psnr, aim, atlas); e.failed())
+      return e;
+    trial.bytes = atlas.report.atlas_image_bytes;
+    trial.psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;
+    return {};
+  };
+  QualityChoice choice;
+  if (Error e = search_image_quality(std::max(aim.goal, min_psnr), run, choice); e.failed()) return e;
+  built = std::move(atlases[choice.quality]);
+  built.report.image_quality = choice.quality;
+  built.report.quality_trials = choice.trials;
+  built.report.quality_reached = choice.reached;
+  quality = choice.quality;
+  return follow_streams(plan, group, built);
 }
 
 // What the group's density aims at (EncodeOptions::goal_psnr): by default
@@ -399,18 +467,18 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
     GroupAtlas built;
     SourceImages sources;
-    double factor_used = factors[0];
     const QualityAim aim = quality_aim(model, group, options);
-    if (Error e =
-            build_to_floor(model, plan, group, options, sources, factors, min_psnr, aim, built, factor_used);
-        e.failed())
-      return e;
-    if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
-        built.floor_psnr() >= min_psnr + 0.5) {
-      if (Error e =
-              spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, aim, built);
+    // The options this group is written with: the coder quality rate
+    // control chose, where it ran.
+    EncodeOptions group_options = options;
+    if (rate_controlled(model, group, options)) {
+      if (Error e = choose_image_quality(model, plan, group, options, sources, factors, min_psnr, aim, built,
+                                         group_options.image_quality);
           e.failed())
         return e;
+    } else if (Error e = build_adapted(model, plan, group, options, sources, factors, min_psnr, aim, built);
+               e.failed()) {
+      return e;
     }
     const double psnr = built.floor_psnr();
     if (min_psnr > 0 && built.error.values > 0 && psnr < min_psnr && options.quality_fallback) {
@@ -423,10 +491,10 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       // Asked for JPEG q10, the user gets JPEG q10 sources, not the PNG
       // they gave (TwoSidedPlane: 157,852 B at 99 dB kept for a q10 encode).
       const std::set<int> replaceable = replaceable_images(model, group, built);
-      const LossySources lossy = lossy_sources(model, group, options, replaceable);
+      const LossySources lossy = lossy_sources(model, group, group_options, replaceable);
       LosslessRepacks repacks;
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
-      if (Error e = recode_sources_as_asked(model, options, lossy, sources, why); e.failed()) return e;
+      if (Error e = recode_sources_as_asked(model, group_options, lossy, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
@@ -449,7 +517,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     }
     EqualQualityImages alternative;
     const std::set<int> replaceable = replaceable_images(model, group, built);
-    const LossySources lossy = lossy_sources(model, group, options, replaceable);
+    const LossySources lossy = lossy_sources(model, group, group_options, replaceable);
     // Only a group that may fall back needs them (PNG coding of a large
     // atlas-sized source costs seconds); with --always-implicit the report
     // prices the sources as they are.
@@ -475,13 +543,19 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_psnr = alternative.psnr;
       why.explicit_image_quality = alternative.quality;
       why.explicit_image_mime = alternative.mime;
-      if (Error e = recode_sources_as_asked(model, options, lossy, sources, why); e.failed()) return e;
+      // Rate control aimed at a quality, not a coder setting: the sources
+      // go out at the quality that was found to reach the atlas's, the file
+      // the comparison priced.
+      LossySources recode = lossy;
+      if (built.report.image_quality > 0 && alternative.quality > 0)
+        for (auto& [image, slot] : recode) slot.second.quality = alternative.quality;
+      if (Error e = recode_sources_as_asked(model, group_options, recode, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
     if (!built.coded) return {ErrorCode::internal, "an atlas below the quality floor was not coded"};
-    if (Error e = measure_mip_levels(model, plan, group, options, sources, built); e.failed()) return e;
+    if (Error e = measure_mip_levels(model, plan, group, group_options, sources, built); e.failed()) return e;
     commit_group_atlas(model, plan, group, built, report, clamp_samplers, retired_textures);
   }
   drop_unused_textures(model, retired_textures);

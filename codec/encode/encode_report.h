@@ -126,6 +126,12 @@ struct AtlasReport {
   double explicit_psnr = 0;
   int explicit_image_quality = 0;
   std::string explicit_image_mime;
+  // Rate control (--target-psnr or --quality with a lossy coder and no
+  // --image-quality; quality_search.h): the coder quality chosen (0: none
+  // searched), the qualities tried, and whether the chosen one reached the target.
+  int image_quality = 0;
+  int quality_trials = 0;
+  bool quality_reached = false;
   double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
   double fit_seconds = 0;  // time the fit took, over the images and pages
 };
