@@ -8,7 +8,7 @@ namespace gltfwarp {
 Error search_image_quality(double target_psnr, const RunQuality& run, QualityChoice& out) {
   // Coarse steps: each trial runs the whole density pipeline (seconds on a
   // 2048-px texture set), so few of them, and a bisection where it pays.
-  constexpr std::array<int, 5> kGrid = {95, 85, 72, 58, 45};
+  constexpr std::array<int, 7> kGrid = {95, 85, 72, 58, 45, 32, 20};
   constexpr int kBisections = 2;
   // The adaptive halving stops just above the target wherever it can, so
   // a trial lands within a tenth of a dB of it either side and a near miss
