@@ -15,9 +15,9 @@
 //   - the rate-distortion curves the BD-rate compares (issue 16; report.py,
 //     bdrate.py): ours at default, --fixed-density, PNG, a JPEG quality
 //     ladder and JPEG under rate control (--target-psnr 40 and 44, the
-//     quality chosen by the encoder); baseline 1, the Draco-12 explicit-UV file with the source
-//     images of the TEXCOORD_0 slots through the same image encoder at the
-//     same settings (the ladder, PNG on top); baseline 2, the same with the
+//     quality chosen by the encoder); baseline 1, the Draco-12 explicit-UV
+//     file with the source images of the TEXCOORD_0 slots through the
+//     same image encoder at the same settings (the ladder, PNG on top); baseline 2, the same with the
 //     images downscaled 0.71x and 0.5x first;
 //   - texture-space PSNR of each decoded file against the source (below),
 //     and a rendered-view PSNR (benchmarks/render_view.h: six orthographic

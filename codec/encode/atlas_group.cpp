@@ -362,6 +362,15 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
   return {};
 }
 
+// Whether the group's atlas codes a colour slot with a lossy coder (JPEG or
+// WebP): the quality aim and rate control both turn on it.
+bool codes_colour_lossily(const tinygltf::Model& model, const AtlasGroup& group,
+                          const EncodeOptions& options) {
+  for (const SlotSource& source : slot_sources(model, group))
+    if (slot_coding(model, source, options).lossy) return true;
+  return false;
+}
+
 // The group's atlas at one coder setting: built up to the floor (and the
 // aim), then its headroom above the floor spent on fewer texels.
 Error build_adapted(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
@@ -382,10 +391,7 @@ Error build_adapted(const tinygltf::Model& model, ImplicitPlan& plan, const Atla
 // --quality) but no coder quality, and the group codes a colour slot lossily
 // (JPEG or WebP): then the quality is the encoder's to choose.
 bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options) {
-  if (!(options.goal_psnr > 0) || options.image_quality > 0) return false;
-  for (const SlotSource& source : slot_sources(model, group))
-    if (slot_coding(model, source, options).lossy) return true;
-  return false;
+  return options.goal_psnr > 0 && options.image_quality <= 0 && codes_colour_lossily(model, group, options);
 }
 
 // The coder quality (quality_search.h) whose adapted atlas reaches the aim
@@ -424,10 +430,7 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
 QualityAim quality_aim(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options) {
   if (options.goal_psnr == 0) return {0, false, false};
   if (options.goal_psnr > 0) return {options.goal_psnr, true, true};
-  bool lossy = false;
-  for (const SlotSource& source : slot_sources(model, group))
-    lossy = lossy || slot_coding(model, source, options).lossy;
-  if (lossy) return {kLossyGoalPsnr, false, false};
+  if (codes_colour_lossily(model, group, options)) return {kLossyGoalPsnr, false, false};
   return {kTransparentPsnr, true, true};
 }
 

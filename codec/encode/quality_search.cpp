@@ -39,29 +39,26 @@ Error search_image_quality(double target_psnr, const RunQuality& run, QualityCho
   if (best == 0) {  // none reaches: the closest
     for (const auto& [q, tq] : tried)
       if (best == 0 || tq.psnr > tried[best].psnr) best = q;
-    out.quality = best;
-    out.trial = tried[best];
-    out.trials = static_cast<int>(tried.size());
-    return {};
-  }
-  // Between the best and the next grid step down (a miss, or a reaching
-  // step with more bytes), halve the gap a few times.
-  int low = 0;
-  for (size_t i = 0; i + 1 < kGrid.size(); ++i)
-    if (kGrid[i] == best) low = kGrid[i + 1];
-  int high = best;
-  for (int b = 0; b < kBisections && low > 0 && high - low > 2; ++b) {
-    const int mid = (high + low) / 2;
-    if (Error e = trial(mid, t); e.failed()) return e;
-    if (t.psnr >= target_psnr && t.bytes < tried[best].bytes) {
-      best = high = mid;
-    } else {
-      low = mid;
+  } else {
+    // Between the best and the next grid step down (a miss, or a reaching
+    // step with more bytes), halve the gap a few times.
+    int low = 0;
+    for (size_t i = 0; i + 1 < kGrid.size(); ++i)
+      if (kGrid[i] == best) low = kGrid[i + 1];
+    int high = best;
+    for (int b = 0; b < kBisections && low > 0 && high - low > 2; ++b) {
+      const int mid = (high + low) / 2;
+      if (Error e = trial(mid, t); e.failed()) return e;
+      if (t.psnr >= target_psnr && t.bytes < tried[best].bytes) {
+        best = high = mid;
+      } else {
+        low = mid;
+      }
     }
+    out.reached = true;
   }
   out.quality = best;
   out.trial = tried[best];
-  out.reached = true;
   out.trials = static_cast<int>(tried.size());
   return {};
 }
