@@ -371,9 +371,9 @@ def large(workdir, outdir):
          f"{med['draco_decoder']:.2f} / {rss['draco_decoder'] / 1024:.0f}"),
         ("ratio: our decode / draco_decoder (target <= 1.5)", f"{med['decode'] / med['draco_decoder']:.2f}"),
     ]
-    if "decode_mixed" in med:  # --layout mixed (format 1.2), same run
+    if "decode_mixed" in med:  # --layout mixed (format 1.4, the default since 2026-12), same run
         rows += [
-            ("ours --layout mixed: file bytes", f"{size('ours_mixed.glb'):,}"),
+            ("ours --layout mixed (the default): file bytes", f"{size('ours_mixed.glb'):,}"),
             ("encode --layout mixed wall s / peak RSS MiB",
              f"{med['encode_mixed']:.1f} / {rss['encode_mixed'] / 1024:.0f}"),
             ("decode --layout mixed wall s (median of 3) / peak RSS MiB",
@@ -384,10 +384,13 @@ def large(workdir, outdir):
     rows += decode_stage_rows(os.path.join(workdir, "stages.json"))
     rows += [
         ("ratio: our decode / gltf-warp decode of explicit-UV Draco-12", f"{med['decode'] / med['decode_explicit']:.2f}"),
-        ("encode target <= 60 s on 2 cores", "met" if med["encode"] <= 60 else "not met"),
+        # The target is the default's: --layout mixed where it ran.
+        ("encode target <= 60 s on 2 cores",
+         "met" if med.get("encode_mixed", med["encode"]) <= 60 else "not met"),
     ]
     md = ["# Large mesh: `gltf-warp sample --faces 1000000 --texture-size 4096`", "",
-          f"Machine: {os.cpu_count()} cores visible; wall times from /usr/bin/time -v.", "",
+          f"Machine: {os.cpu_count()} cores visible; wall times from /usr/bin/time -v.",
+          "\"ours\" is `--layout unfold` (every patch replayed); `--layout mixed` is the default.", "",
           "| measure | value |", "|---|---|"] + [f"| {a} | {b} |" for a, b in rows] + [""]
     open(os.path.join(outdir, "large.md"), "w").write("\n".join(md))
     with open(os.path.join(outdir, "large.csv"), "w", newline="") as f:

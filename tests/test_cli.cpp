@@ -2,6 +2,8 @@
 // non-zero exit on bad input, and no partial output files.
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -12,6 +14,11 @@ namespace fs = std::filesystem;
 
 namespace {
 std::string cli() { return GLTFWARP_CLI; }
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 void expect_one_line_failure(const std::string& args, const std::string& must_contain = "") {
   std::string out;
@@ -102,4 +109,32 @@ TEST(Cli, MixedLayoutWritesTheCotangentSolve) {
   EXPECT_NE(out.find("\"arap_rounds\": 32"), std::string::npos) << out;
   EXPECT_EQ(out.find("\"solve_patches\": 0"), std::string::npos) << out;
   ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.glb 2>&1", &out), 0) << out;
+}
+
+// The mixed layout is the default: an encode without --layout is the
+// --layout mixed file byte for byte, and --layout unfold asks no solve of
+// the decoder.
+TEST(Cli, MixedLayoutIsTheDefault) {
+  const std::string dir = scratch_dir("cli-layout-default");
+  std::string out;
+  ASSERT_EQ(
+      run_command(cli() + " sample --shape torus --faces 3000 --texture-size 128 -o " + dir + "/s.glb 2>&1",
+                  &out),
+      0)
+      << out;
+  for (const char* layout : {"", "--layout mixed", "--layout unfold"}) {
+    const std::string name = *layout ? std::string(layout).substr(9) : "default";
+    ASSERT_EQ(run_command(cli() + " encode --always-implicit " + layout + " " + dir + "/s.glb -o " + dir +
+                              "/" + name + ".glb 2>&1",
+                          &out),
+              0)
+        << out;
+  }
+  const std::string default_file = file_bytes(dir + "/default.glb");
+  EXPECT_FALSE(default_file.empty());
+  EXPECT_TRUE(default_file == file_bytes(dir + "/mixed.glb"));
+  ASSERT_EQ(run_command(cli() + " info --json " + dir + "/unfold.glb 2>&1", &out), 0) << out;
+  EXPECT_NE(out.find("\"solve_patches\": 0"), std::string::npos) << out;
+  ASSERT_EQ(run_command(cli() + " info --json " + dir + "/default.glb 2>&1", &out), 0) << out;
+  EXPECT_EQ(out.find("\"solve_patches\": 0"), std::string::npos) << out;
 }

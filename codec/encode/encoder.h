@@ -22,8 +22,10 @@ struct EncodeOptions {
   bool implicit_uvs = true;       // replace TEXCOORD_0 (off: plain Draco for everything)
   double tau = 1.3;               // distortion bound of every triangle
   bool greedy_partition = false;  // the paper's plain greedy growth (baseline)
-  bool mixed_layout = false;      // --layout mixed: also merge patches laid out by solve (format 1.2)
-  bool report_greedy = false;     // also run greedy on each primitive and report its figures
+  // --layout mixed (the default): also merge patches laid out by solve
+  // (format 1.4); false: --layout unfold, every patch replays (1.0/1.1).
+  bool mixed_layout = true;
+  bool report_greedy = false;  // also run greedy on each primitive and report its figures
   // Partition the parts of a cut primitive side by side, ahead of the loop
   // that commits them one by one (implicit_uv_encoder.cpp). Off: one after
   // another, the same bytes, slower; tests compare the two.
