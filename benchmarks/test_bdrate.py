@@ -55,6 +55,15 @@ class BdRate(unittest.TestCase):
         self.assertEqual(bdrate.pareto_front(pts), sorted(A))
         self.assertAlmostEqual(bdrate.bd_rate(pts, [(r * 0.8, p) for r, p in A])["bd_rate"], -0.2, places=12)
 
+    def test_a_costlier_point_hardly_better_leaves_the_front(self):
+        # 30% more bytes for 0.01 dB: not a quality level of its own, so the
+        # curve and its BD-rate stay those of A.
+        pts = A + [(26_000 * 1.3, 36.91)]
+        self.assertEqual(bdrate.pareto_front(pts), sorted(A))
+        self.assertAlmostEqual(bdrate.bd_rate(pts, [(r * 0.8, p) for r, p in A])["bd_rate"], -0.2, places=12)
+        # 0.1 dB better is a step the front keeps.
+        self.assertIn((26_000 * 1.3, 37.0), bdrate.pareto_front(A + [(26_000 * 1.3, 37.0)]))
+
     def test_geometric_mean(self):
         self.assertAlmostEqual(bdrate.geometric_mean_ratio([-0.2, 0.25, None]), 0.0, places=12)
         self.assertIsNone(bdrate.geometric_mean_ratio([None]))
