@@ -20,8 +20,20 @@ const char* coder_name(const std::string& mime) { return mime == "image/webp" ? 
 void append_recoded(char* line, size_t size, const Fallback& f) {
   if (f.images_recoded_quality > 0) {
     const size_t used = std::strlen(line);
-    std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
-                  coder_name(f.explicit_image_mime), f.images_recoded_quality);
+    if (f.target_psnr > 0)
+      std::snprintf(line + used, size - used, "; the source images written as %s q%d, to reach %.1f dB",
+                    coder_name(f.explicit_image_mime), f.images_recoded_quality, f.target_psnr);
+    else
+      std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
+                    coder_name(f.explicit_image_mime), f.images_recoded_quality);
+  }
+  if (f.images_kept_for_target > 0) {
+    const size_t used = std::strlen(line);
+    std::snprintf(line + used, size - used,
+                  "; %u source image%s kept as %s (%zu bytes): no %s quality reaches %.1f dB in fewer bytes",
+                  f.images_kept_for_target, f.images_kept_for_target == 1 ? "" : "s",
+                  f.images_kept_for_target == 1 ? "it was" : "they were", f.kept_for_target_bytes,
+                  coder_name(f.explicit_image_mime), f.target_psnr);
   }
   if (f.images_kept > 0) {
     const size_t used = std::strlen(line);

@@ -422,6 +422,36 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   return follow_streams(plan, group, built);
 }
 
+// Under rate control the user asked for a quality, not a coder setting: a
+// group that keeps explicit UVs writes each lossy-coded source at the lowest
+// quality whose surface PSNR reaches `target` (explicit_alternative.h), and
+// leaves out of `recode` (so as it is) a source that no quality brings there
+// in fewer bytes than it has. A group below the floor wrote its sources at
+// the closest trial's quality instead (often q95), whatever the target, and
+// one whose chosen atlas fell short of the target wrote them short of it too.
+Error sources_at_target(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                        const GroupAtlas& built, SourceImages& sources, const LossySources& lossy,
+                        const LosslessRepacks& repacks, double target, LossySources& recode, Fallback& why) {
+  recode.clear();
+  why.target_psnr = target;
+  for (const auto& [image, source_coding] : lossy) {
+    EqualQualityImages one;
+    if (Error e =
+            equal_quality_images(model, plan, group, built, sources, {image}, lossy, repacks, target, one);
+        e.failed())
+      return e;
+    if (one.quality <= 0) {
+      ++why.images_kept_for_target;
+      why.kept_for_target_bytes += model.images[size_t(image)].image.size();
+      why.explicit_image_mime = source_coding.second.mime;
+      continue;
+    }
+    auto& entry = recode.emplace(image, source_coding).first->second;
+    entry.second.quality = one.quality;
+  }
+  return {};
+}
+
 // What the group's density aims at (EncodeOptions::goal_psnr): by default
 // 44 dB, near transparency, where the colour slots are coded losslessly, and
 // boosted up to it; a lossy coder's own loss caps the quality, so there
@@ -477,7 +507,8 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     // The options this group is written with: the coder quality rate
     // control chose, where it ran.
     EncodeOptions group_options = options;
-    if (rate_controlled(model, group, options)) {
+    const bool controlled = rate_controlled(model, group, options);
+    if (controlled) {
       if (Error e = choose_image_quality(model, plan, group, options, sources, factors, min_psnr, aim, built,
                                          group_options.image_quality);
           e.failed())
@@ -497,9 +528,17 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       // Asked for JPEG q10, the user gets JPEG q10 sources, not the PNG
       // they gave (TwoSidedPlane: 157,852 B at 99 dB kept for a q10 encode).
       const std::set<int> replaceable = replaceable_images(model, group, built);
-      const LossySources lossy = lossy_sources(model, group, group_options, replaceable);
+      LossySources lossy = lossy_sources(model, group, group_options, replaceable);
       LosslessRepacks repacks;
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
+      if (controlled) {
+        LossySources recode;
+        if (Error e = sources_at_target(model, plan, group, built, sources, lossy, repacks,
+                                        std::max(aim.goal, min_psnr), recode, why);
+            e.failed())
+          return e;
+        lossy = std::move(recode);
+      }
       if (Error e = recode_sources_as_asked(model, group_options, lossy, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
@@ -549,12 +588,14 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_psnr = alternative.psnr;
       why.explicit_image_quality = alternative.quality;
       why.explicit_image_mime = alternative.mime;
-      // Rate control aimed at a quality, not a coder setting: the sources
-      // go out at the quality that was found to reach the atlas's, the file
-      // the comparison priced.
+      // Under rate control each source goes out at the quality that reaches
+      // both the atlas's (the file the comparison priced) and the target.
       LossySources recode = lossy;
-      if (built.report.image_quality > 0 && alternative.quality > 0)
-        for (auto& [image, slot] : recode) slot.second.quality = alternative.quality;
+      if (controlled)
+        if (Error e = sources_at_target(model, plan, group, built, sources, lossy, repacks,
+                                        std::max(built.floor_psnr(), aim.goal), recode, why);
+            e.failed())
+          return e;
       if (Error e = recode_sources_as_asked(model, group_options, recode, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;

@@ -64,6 +64,13 @@ struct Fallback {
   uint32_t images_kept = 0;
   size_t kept_bytes = 0, kept_recoded_bytes = 0;
   int kept_recoded_quality = 0;
+  // Under rate control (a target, no coder quality): the qualities were
+  // chosen to reach target_psnr (the target, or the atlas's quality where
+  // that is higher: the file the comparison priced), and these images kept
+  // as they were, since no quality of the coder reaches it in fewer bytes.
+  double target_psnr = 0;
+  uint32_t images_kept_for_target = 0;
+  size_t kept_for_target_bytes = 0;
   // Source PNGs written again by our PNG writer, smaller and to the same
   // pixels (lossless_repacks), with their bytes before and after.
   uint32_t images_repacked = 0;

@@ -69,9 +69,7 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
       why.explicit_image_mime = coding.mime;
       continue;
     }
-    model.images[size_t(image)].image = std::move(bytes);
-    model.images[size_t(image)].mimeType = coding.mime;
-    point_textures_at_image(model, image);
+    replace_image_bytes(model, image, std::move(bytes), coding.mime);
     why.images_recoded_quality = coding.quality;
     why.explicit_image_mime = coding.mime;
   }
@@ -106,12 +104,10 @@ Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images
 
 void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repacks, Fallback& why) {
   for (const auto& [image, bytes] : repacks) {
-    auto& im = model.images[size_t(image)];
-    why.repacked_bytes_before += im.image.size();
+    why.repacked_bytes_before += model.images[size_t(image)].image.size();
     why.repacked_bytes_after += bytes.size();
     ++why.images_repacked;
-    im.image = bytes;
-    im.mimeType = "image/png";
+    replace_image_bytes(model, image, bytes, "image/png");
   }
 }
 

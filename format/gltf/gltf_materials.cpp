@@ -133,6 +133,17 @@ void point_textures_at_image(tinygltf::Model& model, int image) {
     if (texture_image(model, int(t)) == image) set_texture_image(model, int(t), image);
 }
 
+void replace_image_bytes(tinygltf::Model& model, int image, std::vector<unsigned char> bytes,
+                         const std::string& mime) {
+  tinygltf::Image& img = model.images[size_t(image)];
+  img.image = std::move(bytes);
+  img.mimeType = mime;
+  img.bufferView = -1;
+  img.uri.clear();
+  img.as_is = false;
+  point_textures_at_image(model, image);
+}
+
 void texture_wraps(const tinygltf::Model& model, int texture, int& wrap_s, int& wrap_t) {
   wrap_s = wrap_t = TINYGLTF_TEXTURE_WRAP_REPEAT;
   if (texture < 0 || static_cast<size_t>(texture) >= model.textures.size()) return;

@@ -58,6 +58,14 @@ void set_texture_image(tinygltf::Model& model, int texture, int image);
 // changed coder).
 void point_textures_at_image(tinygltf::Model& model, int image);
 
+// Gives `image` new encoded bytes of type `mime`, then points its textures
+// at it. The image leaves its bufferView or URI: an image read from a .glb
+// keeps its view, which the writer copies as it is (compact_buffers), so
+// bytes set beside it would be lost and the file would name PNG bytes
+// image/jpeg. The old view goes when nothing else uses it.
+void replace_image_bytes(tinygltf::Model& model, int image, std::vector<unsigned char> bytes,
+                         const std::string& mime);
+
 // The wrapS and wrapT of a texture's sampler (glTF enums); REPEAT, glTF's
 // default, when the texture has no valid sampler.
 void texture_wraps(const tinygltf::Model& model, int texture, int& wrap_s, int& wrap_t);

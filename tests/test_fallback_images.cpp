@@ -1,0 +1,121 @@
+// A group that keeps explicit UVs may write its source images again: in the
+// coder asked (--image-format), at the quality rate control found, or
+// repacked losslessly. An image read from a .glb sits in a bufferView, which
+// the writer copies as it is; the file must hold the new bytes, under the
+// mimeType they are. (A .glb source once came out with its PNG bytes named
+// image/jpeg, which the Khronos validator rejects.)
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <OpenImageIO/imagebufalgo.h>
+#include <gtest/gtest.h>
+
+#include "codec/encode/encoder.h"
+#include "codec/encode/texture/image_io.h"
+#include "format/gltf/gltf_io.h"
+#include "support/corpus.h"
+#include "tests/support/testing/sample_model.h"
+
+namespace gltfwarp {
+namespace {
+
+ImageCodec codec_of_mime(const std::string& mime) {
+  if (mime == "image/png") return ImageCodec::png;
+  if (mime == "image/jpeg") return ImageCodec::jpeg;
+  if (mime == "image/webp") return ImageCodec::webp;
+  return ImageCodec::unknown;
+}
+
+// A generated sphere with a PNG texture, written as .glb and read back, so
+// its image lies in a bufferView as in any .glb a user gives.
+void glb_sphere(const std::string& dir, tinygltf::Model& model) {
+  tinygltf::Model made;
+  ASSERT_EQ(make_sample_model("sphere", 1500, 256, made), "");
+  const std::string path = dir + "/source.glb";
+  ASSERT_EQ(write_gltf(made, path), "");
+  ASSERT_TRUE(read_gltf(path, model).ok);
+  ASSERT_FALSE(model.images.empty());
+  ASSERT_GE(model.images[0].bufferView, 0) << "precondition: the image sits in a bufferView";
+  ASSERT_EQ(sniff_image_codec(model.images[0].image), ImageCodec::png);
+}
+
+TEST(FallbackImages, AGlbSourceGetsTheBytesItsMimeTypeNames) {
+  struct Case {
+    std::string format;
+    int quality;
+    ImageCodec written;  // what the source image must become
+  };
+  // Below a floor no atlas reaches (99 dB), every group keeps explicit UVs;
+  // the sphere's PNG becomes JPEG or WebP as asked (smaller at these
+  // qualities, so not kept as it was).
+  for (const Case& c : {Case{"jpeg", 60, ImageCodec::jpeg}, Case{"webp", 60, ImageCodec::webp}}) {
+    SCOPED_TRACE(c.format);
+    const std::string dir = test::scratch_dir("fallback-images-" + c.format);
+    tinygltf::Model model;
+    ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, model));
+    const size_t source_bytes = model.images[0].image.size();
+    EncodeOptions o;
+    o.image_format = c.format;
+    o.image_quality = c.quality;
+    o.min_psnr = 99;
+    EncodeReport report;
+    ASSERT_EQ(encode_model(model, o, report).message, "");
+    ASSERT_FALSE(report.primitives.empty());
+    for (const PrimitiveReport& p : report.primitives) EXPECT_EQ(p.handling, Handling::fallback);
+    const std::string path = dir + "/encoded.glb";
+    ASSERT_EQ(write_gltf(model, path), "");
+    tinygltf::Model back;
+    ASSERT_TRUE(read_gltf(path, back).ok);
+    ASSERT_EQ(back.images.size(), 1u);
+    const tinygltf::Image& img = back.images[0];
+    EXPECT_EQ(sniff_image_codec(img.image), codec_of_mime(img.mimeType)) << img.mimeType;
+    EXPECT_EQ(sniff_image_codec(img.image), c.written);
+    EXPECT_LT(img.image.size(), source_bytes);
+    const test::ValidatorResult v = test::validate(path);
+    if (!v.ran) {
+      if (test::on_ci()) FAIL() << "gltf-validator is not installed (run scripts/install-deps)";
+      GTEST_SKIP() << "gltf-validator not installed";
+    }
+    EXPECT_EQ(v.errors, 0) << v.raw;
+  }
+}
+
+// Under rate control (a target, no coder quality) a group that keeps
+// explicit UVs writes its sources at a quality that reaches the target, or
+// as they are where no quality does in fewer bytes: never at the closest
+// trial's quality whatever the target (JPEG q95 here once, for a 48 dB
+// target). The image either is the source, byte for byte, or is close to
+// the target against it (3 dB of slack: the target is surface PSNR in
+// linear light, this the image's in its own encoding).
+TEST(FallbackImages, RateControlWritesSourcesThatReachTheTarget) {
+  const std::string dir = test::scratch_dir("fallback-images-target");
+  tinygltf::Model model;
+  ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, model));
+  const std::vector<uint8_t> source = model.images[0].image;
+  constexpr double kTarget = 48.0;
+  EncodeOptions o;
+  o.image_format = "jpeg";
+  o.goal_psnr = kTarget;
+  EncodeReport report;
+  ASSERT_EQ(encode_model(model, o, report).message, "");
+  for (const PrimitiveReport& p : report.primitives) ASSERT_EQ(p.handling, Handling::fallback);
+  const std::string path = dir + "/encoded.glb";
+  ASSERT_EQ(write_gltf(model, path), "");
+  tinygltf::Model back;
+  ASSERT_TRUE(read_gltf(path, back).ok);
+  ASSERT_EQ(back.images.size(), 1u);
+  const std::vector<uint8_t>& written = back.images[0].image;
+  EXPECT_EQ(sniff_image_codec(written), codec_of_mime(back.images[0].mimeType));
+  if (written == source) return;  // kept as it was: lossless
+  OIIO::ImageBuf a, b;
+  std::string why;
+  ASSERT_TRUE(decode_image(source, a, why)) << why;
+  ASSERT_TRUE(decode_image(written, b, why)) << why;
+  const auto cmp = OIIO::ImageBufAlgo::compare(a, b, 0.0f, 0.0f);
+  const double psnr = cmp.rms_error > 0 ? -20 * std::log10(cmp.rms_error) : 99.0;
+  EXPECT_GE(psnr, kTarget - 3.0) << "q" << report.primitives[0].fallback.images_recoded_quality;
+}
+
+}  // namespace
+}  // namespace gltfwarp
