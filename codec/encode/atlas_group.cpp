@@ -424,32 +424,34 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
 
 // Under rate control the user asked for a quality, not a coder setting: a
 // group that keeps explicit UVs writes each lossy-coded source at the lowest
-// quality whose surface PSNR reaches `target` (explicit_alternative.h), and
-// leaves out of `recode` (so as it is) a source that no quality brings there
-// in fewer bytes than it has. A group below the floor wrote its sources at
-// the closest trial's quality instead (often q95), whatever the target, and
-// one whose chosen atlas fell short of the target wrote them short of it too.
-Error sources_at_target(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                        const GroupAtlas& built, SourceImages& sources, const LossySources& lossy,
-                        const LosslessRepacks& repacks, double target, LossySources& recode, Fallback& why) {
+// quality whose surface PSNR reaches a target, as `at_target`
+// (equal_quality_images at that target) found it, and leaves out of
+// `recode` (so as it is) a source that no quality brings there in fewer
+// bytes than it has. A group below the floor wrote its sources at the
+// closest trial's quality instead (often q95), whatever the target, and one
+// whose chosen atlas fell short of the target wrote them short of it too.
+void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
+                       const EqualQualityImages& at_target, double target, LossySources& recode,
+                       Fallback& why) {
   recode.clear();
   why.target_psnr = target;
   for (const auto& [image, source_coding] : lossy) {
-    EqualQualityImages one;
-    if (Error e =
-            equal_quality_images(model, plan, group, built, sources, {image}, lossy, repacks, target, one);
-        e.failed())
-      return e;
-    if (one.quality <= 0) {
+    const auto found = at_target.qualities.find(image);
+    if (found == at_target.qualities.end()) {
       ++why.images_kept_for_target;
       why.kept_for_target_bytes += model.images[size_t(image)].image.size();
       why.explicit_image_mime = source_coding.second.mime;
       continue;
     }
-    auto& entry = recode.emplace(image, source_coding).first->second;
-    entry.second.quality = one.quality;
+    recode.emplace(image, source_coding).first->second.second.quality = found->second;
   }
-  return {};
+}
+
+// The lossy-coded sources (lossy_sources' keys).
+std::set<int> images_of(const LossySources& lossy) {
+  std::set<int> images;
+  for (const auto& entry : lossy) images.insert(entry.first);
+  return images;
 }
 
 // What the group's density aims at (EncodeOptions::goal_psnr): by default
@@ -532,11 +534,14 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       LosslessRepacks repacks;
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
       if (controlled) {
-        LossySources recode;
-        if (Error e = sources_at_target(model, plan, group, built, sources, lossy, repacks,
-                                        std::max(aim.goal, min_psnr), recode, why);
+        const double target = std::max(aim.goal, min_psnr);
+        EqualQualityImages at_target;
+        if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
+                                           repacks, target, at_target);
             e.failed())
           return e;
+        LossySources recode;
+        sources_at_target(model, lossy, at_target, target, recode, why);
         lossy = std::move(recode);
       }
       if (Error e = recode_sources_as_asked(model, group_options, lossy, sources, why); e.failed()) return e;
@@ -590,12 +595,19 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       why.explicit_image_mime = alternative.mime;
       // Under rate control each source goes out at the quality that reaches
       // both the atlas's (the file the comparison priced) and the target.
+      // The comparison searched them at the atlas's quality already: only a
+      // higher target needs a second search.
       LossySources recode = lossy;
-      if (controlled)
-        if (Error e = sources_at_target(model, plan, group, built, sources, lossy, repacks,
-                                        std::max(built.floor_psnr(), aim.goal), recode, why);
-            e.failed())
-          return e;
+      if (controlled) {
+        const double target = std::max(built.floor_psnr(), aim.goal);
+        EqualQualityImages at_target = alternative;
+        if (target > built.floor_psnr())
+          if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
+                                             repacks, target, at_target);
+              e.failed())
+            return e;
+        sources_at_target(model, lossy, at_target, target, recode, why);
+      }
       if (Error e = recode_sources_as_asked(model, group_options, recode, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;

@@ -171,6 +171,7 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     out.bytes += best.bytes;
     out.psnr = out.psnr > 0 ? std::min(out.psnr, best.psnr) : best.psnr;
     out.quality = std::max(out.quality, found);
+    out.qualities[image] = found;
   }
   return {};
 }
