@@ -504,6 +504,9 @@ int main(int argc, char** argv) {
   bool always_implicit = false;
   app.add_flag("--always-implicit", always_implicit,
                "Our encodes never fall back to explicit UVs (encode --always-implicit)");
+  std::string layout = "mixed";
+  app.add_option("--layout", layout, "Our encodes' layout (encode --layout)")
+      ->check(CLI::IsMember({"mixed", "unfold"}));
   int render_size = 1024, render_small = 256;
   std::string render_reference = "filled";
   app.add_option("--render-size", render_size, "Rendered views: side in pixels (0: no render)")
@@ -547,6 +550,7 @@ int main(int argc, char** argv) {
   EncodeOptions defaults;
   defaults.max_atlas_size = max_atlas_size;
   defaults.quality_fallback = !always_implicit;
+  defaults.mixed_layout = layout == "mixed";
   Timed ours = encode(src, defaults);
   std::vector<std::pair<int, int>> replaced;
   size_t bitstream = 0, unmatched = 0;

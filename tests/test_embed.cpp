@@ -12,6 +12,7 @@
 #include <string>
 
 #include "codec/core/geometry2d.h"
+#include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
 #include "codec/decode/embedding_mesh.h"
 #include "codec/encode/atlas/texel_density.h"
@@ -115,6 +116,7 @@ TEST_P(EmbedGuarantees, HoldOnEveryShape) {
     // The bound, orientation and overlap, measured independently.
     const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, opt.tau);
     EXPECT_EQ(r.over_tau, 0u);
+    EXPECT_EQ(r.shrunk, 0u);
     EXPECT_LE(r.max_distortion, opt.tau);
     EXPECT_EQ(r.flipped, 0u);
     uint32_t degenerate = 0;
@@ -128,6 +130,28 @@ INSTANTIATE_TEST_SUITE_P(Modes, EmbedGuarantees,
                          ::testing::Values(ModeCase{PartitionMode::compact, "compact"},
                                            ModeCase{PartitionMode::greedy, "greedy"}),
                          [](const auto& param_info) { return std::string(param_info.param.name); });
+
+// The paper's measure bounds edges only: a triangle can keep every edge
+// within tau and still lose most of its area (the CesiumMilkTruck's grille,
+// face_within_tau). The encoder's rule rejects it; the measure counts it.
+TEST(Embed, ANeedleWithinTheEdgeBoundIsRejected) {
+  TriMesh m;
+  m.positions = {0, 0, 0, 207, 0, 0, 0, 33, 0};  // legs 207 and 33
+  m.indices = {0, 1, 2};
+  const Vec2 needle[3] = {{0, 0}, {207, 0}, {-30, 3}};  // edges 207, 30.1, 237: within 1.14
+  ASSERT_LE(face_distortion(m, 0, needle), 1.15);
+  ASSERT_GT(orient2d_sign(needle[0], needle[1], needle[2]), 0);
+  EXPECT_FALSE(face_within_tau(m, 0, needle, 1.3));
+  const Vec2 isometric[3] = {{0, 0}, {207, 0}, {0, 33}};
+  EXPECT_TRUE(face_within_tau(m, 0, isometric, 1.3));
+  const Vec2 grown[3] = {{0, 0}, {207, 0}, {0, 42}};  // more texels than needed: allowed (edge 42/33 < 1.3)
+  EXPECT_TRUE(face_within_tau(m, 0, grown, 1.3));
+  const std::vector<uint32_t> one_patch = {0};
+  const std::vector<double> xy = {0, 0, 207, 0, -30, 3};
+  const EmbedReport r = measure_embedding(m, one_patch, 1, xy, 1.3);
+  EXPECT_EQ(r.over_tau, 0u);
+  EXPECT_EQ(r.shrunk, 1u);
+}
 
 TEST(Embed, PlaneIsOnePatchCylinderAFew) {
   for (PartitionMode mode : {PartitionMode::compact, PartitionMode::greedy}) {
@@ -188,6 +212,7 @@ void expect_guarantees(const TriMesh& m, const Embedding& e, double tau) {
   EXPECT_EQ(std::memcmp(e.encoder_xy.data(), e.corner_xy.data(), e.corner_xy.size() * 8), 0);
   const EmbedReport r = measure_embedding(m, e.patch_of_face, e.patch_count, e.corner_xy, tau);
   EXPECT_EQ(r.over_tau, 0u);
+  EXPECT_EQ(r.shrunk, 0u);
   EXPECT_EQ(r.flipped, 0u);
   EXPECT_EQ(count_overlaps(e), 0u);
 }
@@ -214,9 +239,11 @@ TEST(Embed, CompactBeatsGreedy) {
 }
 
 // Issue 8's targets on the generated shapes it names, at about 30k faces.
-// Measured (seams / greedy's, fill, holes): sphere 0.40, 0.65, 0; bumpy
-// sphere 0.60, 0.64, 0; twisted loop 0.57, 0.60, 0; twisted cone 0.61, 0.65,
-// 1 (absorb_holes found that its host cannot take it within tau). Greedy's
+// Measured (seams / greedy's, fill, holes): sphere 0.35, 0.65, 0; bumpy
+// sphere 0.53, 0.65, 1; twisted loop 0.54, 0.60, 0; twisted cone 0.49, 0.63,
+// 0. A hole is left where absorb_holes finds that its host cannot take it
+// within tau: the bumpy sphere's one since faces must also keep their area
+// (face_within_tau, 2026-12-04; before it, the twisted cone had the one). Greedy's
 // ragged borders grow with the resolution and compact patches' do not, so
 // the ratio falls with size (at 100k about 0.25 to 0.55, at 3k 0.65 to 0.8).
 // Where it stays above 0.5, the bound asserted is what is reached.
@@ -227,7 +254,7 @@ TEST(Embed, CompactTargetsOnGeneratedShapes) {
     uint32_t max_holes;
   };
   const Target targets[] = {{"sphere", 0.50, 0.60, 0},
-                            {"bumpy_sphere", 0.64, 0.60, 0},
+                            {"bumpy_sphere", 0.64, 0.60, 1},
                             {"twisted_loop", 0.62, 0.58, 0},
                             {"twisted_cone", 0.66, 0.60, 1}};
   const std::vector<NamedShape> shapes = standard_shapes(30000);
@@ -498,7 +525,8 @@ Figures figures_of(const std::vector<TriMesh>& meshes, PartitionMode mode, doubl
     const auto t0 = std::chrono::steady_clock::now();
     const Embedding e = embed(m, opt);
     fg.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    fg.ok &= e.status == LayoutStatus::ok && e.report.over_tau == 0 && e.report.flipped == 0;
+    fg.ok &= e.status == LayoutStatus::ok && e.report.over_tau == 0 && e.report.shrunk == 0 &&
+             e.report.flipped == 0;
     fg.patches += e.patch_count;
     fg.seams += e.report.seam_edges;
     fg.holes += e.report.holes;
@@ -520,8 +548,10 @@ void print_row(const std::string& name, const Figures& g, const Figures& c) {
 }
 
 // Issue 8 on the corpus models the design names, all primitives with
-// TEXCOORD_0 summed. Measured (seams / greedy's, fill, holes): Duck 0.66,
-// 0.63, 0; Fox 0.82, 0.57, 0; CesiumMilkTruck 1.02, 0.50, 2. The Fox and the
+// TEXCOORD_0 summed. Measured (seams / greedy's, fill, holes): Duck 0.63,
+// 0.62, 0; Fox 0.79, 0.57, 0; CesiumMilkTruck 0.94, 0.46, 2 (0.50 fill
+// before faces had to keep their area, face_within_tau: the truck's slivers
+// no longer close loops as needles, so its patches are more, and less full). The Fox and the
 // truck are low-poly, mostly flat panels meeting at creases and small parts
 // of a few faces, where plain greedy's patches are already few and not
 // ragged; the bounds asserted are what is reached. Without the density rule
@@ -536,7 +566,7 @@ TEST(EmbedCorpus, CompactAgainstGreedy) {
     uint32_t max_holes;
   };
   const Target targets[] = {
-      {"Duck", 0.70, 0.60, 0}, {"Fox", 0.90, 0.55, 0}, {"CesiumMilkTruck", 1.10, 0.48, 2}};
+      {"Duck", 0.70, 0.60, 0}, {"Fox", 0.90, 0.55, 0}, {"CesiumMilkTruck", 1.10, 0.44, 2}};
   const auto models = test::corpus_models();
   for (const Target& t : targets) {
     SCOPED_TRACE(t.name);

@@ -26,6 +26,12 @@ double face_area3(const TriMesh& m, uint32_t f) {
   return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
 }
 
+namespace {
+bool face_shrunk(const TriMesh& m, uint32_t f, const Vec2 P[3], double tau) {
+  return 0.5 * std::fabs(orient2d(P[0], P[1], P[2])) * tau * tau < face_area3(m, f);
+}
+}  // namespace
+
 // Distortion of face f with its corners at P (paper's measure).
 double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]) {
   const uint32_t* t = &m.indices[3 * f];
@@ -37,6 +43,10 @@ double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]) {
     l2[k] = std::sqrt(dx * dx + dy * dy);
   }
   return triangle_distortion(l3, l2);
+}
+
+bool face_within_tau(const TriMesh& m, uint32_t f, const Vec2 P[3], double tau) {
+  return face_distortion(m, f, P) <= tau && !face_shrunk(m, f, P, tau);
 }
 
 // Area of the patch's triangles over the area of the min-area rectangle of
@@ -77,6 +87,7 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
     const double d = face_distortion(mesh, f, P);
     r.max_distortion = std::max(r.max_distortion, d);
     r.over_tau += !(d <= tau);
+    r.shrunk += face_shrunk(mesh, f, P, tau);
     if (std::isfinite(d)) {
       const double a = face_area3(mesh, f);
       sum += d, ++finite;

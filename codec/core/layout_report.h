@@ -20,6 +20,7 @@ struct EmbedReport {
   double mean_distortion = 1.0;       // unweighted over faces with a finite distortion
   double area_mean_distortion = 1.0;  // weighted by 3D face area
   uint32_t over_tau = 0;              // faces above tau (given to measure_embedding)
+  uint32_t shrunk = 0;                // faces keeping less than 1/tau^2 of their 3D area (face_within_tau)
   uint32_t flipped = 0;               // 2D signed area < 0 (exact)
   uint32_t zero_area = 0;             // 2D signed area == 0 (exact)
   uint32_t seam_edges = 0;            // manifold interior edges whose two faces lie in different patches
@@ -40,6 +41,17 @@ double face_area3(const TriMesh& m, uint32_t f);
 // Distortion of face f with its corners at P (the paper's measure,
 // distortion.h).
 double face_distortion(const TriMesh& m, uint32_t f, const Vec2 P[3]);
+
+// What the encoder asks of every face it lays out: the paper's distortion
+// <= tau, and at least 1/tau^2 of its 3D area kept in 2D. The edge rule
+// alone lets a triangle that closes a loop collapse into a needle: on the
+// CesiumMilkTruck's grille a triangle with legs of 33 and 207 units was laid
+// out with edges 33, 205 and 238 (every one within 1.15 of its length) and a
+// ninth of its area, so the atlas gave it a ninth of its texels and the
+// viewer showed streaks across the bar. A face that grows is no loss (its
+// texels are more than it needs), and a degenerate 3D face keeps nothing
+// to lose, so only shrinking counts. Orientation is not checked here.
+bool face_within_tau(const TriMesh& m, uint32_t f, const Vec2 P[3], double tau);
 
 // Area of the patch's triangles over the area of the min-area rectangle of
 // its corners (1 for an empty or zero-area patch); the triangles' 2D area

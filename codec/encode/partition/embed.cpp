@@ -259,7 +259,7 @@ class Grower {
     assign(seed, id, sp);
     faces.push_back(seed);
     if (face_has_repeated_vertex(m_, seed) || orient2d_sign(sp[0], sp[1], sp[2]) <= 0 ||
-        !(face_distortion(m_, seed, sp) <= opt_.tau))
+        !face_within_tau(m_, seed, sp, opt_.tau))
       return !all_or_nothing;  // a degenerate seed stays a singleton patch
     grid_.insert(seed, sp);
 
@@ -370,7 +370,7 @@ class Grower {
         if (!c.in) continue;
         Vec2 P[3];
         corners(c, trial_, P);
-        bool ok = orient2d_sign(P[0], P[1], P[2]) > 0 && face_distortion(m_, c.f, P) <= opt_.tau &&
+        bool ok = orient2d_sign(P[0], P[1], P[2]) > 0 && face_within_tau(m_, c.f, P, opt_.tau) &&
                   !grid_.overlaps(P, xy);
         for (size_t j = 0; ok && j < tris_.size(); j += 3) ok = !triangles_overlap(P, &tris_[j]);
         if (ok) {

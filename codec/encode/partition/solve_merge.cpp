@@ -47,7 +47,7 @@ bool solved_patch_acceptable(const TriMesh& mesh, std::span<const uint32_t> face
     const double* c = &xy[6 * size_t{f}];
     const Vec2 P[3] = {{c[0], c[1]}, {c[2], c[3]}, {c[4], c[5]}};
     if (orient2d_sign(P[0], P[1], P[2]) <= 0) return false;
-    if (!(face_distortion(mesh, f, P) <= tau)) return false;
+    if (!face_within_tau(mesh, f, P, tau)) return false;
     area += orient2d(P[0], P[1], P[2]);
     for (int k = 0; k < 3; ++k)
       edges.push_back({idx[3 * f + k], idx[3 * f + (k + 1) % 3], P[k], P[(k + 1) % 3]});
