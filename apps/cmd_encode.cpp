@@ -88,7 +88,9 @@ Runner add_encode(CLI::App& app) {
   add_batch_options(app, a->batch, a->shard);
   app.add_option("--batch-worker-input", a->worker_in)->group("");
   app.add_option("--batch-worker-output", a->worker_out)->group("");
-  app.add_option("--max-distortion", a->opt.tau, "Distortion bound tau of every triangle (>= 1)")
+  app.add_option("--max-distortion", a->opt.tau,
+                 "Distortion bound tau of every triangle (>= 1): each edge within tau of its 3D length, and "
+                 "at least 1/tau^2 of its 3D area kept")
       ->check(CLI::Range(1.0001, 100.0));
   app.add_option("--partition", a->partition, "compact, or greedy (the paper's plain growth, a baseline)")
       ->check(CLI::IsMember({"compact", "greedy"}));
