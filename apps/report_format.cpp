@@ -108,8 +108,8 @@ std::string handling_text(const PrimitiveReport& p) {
       return "raw";
     case Handling::raw_morph_targets:
       return "raw: morph targets";
-    case Handling::fallback:
-      return "fallback: explicit UVs kept (" + fallback_text(p.fallback) + ")";
+    case Handling::fallback:  // the reason is long: its note line below the table says it
+      return "fallback: explicit UVs";
     case Handling::pass_not_triangles:
       return "pass: not triangles (mode " + std::to_string(p.mode) + ")";
     case Handling::pass_no_triangles:

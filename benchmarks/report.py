@@ -381,6 +381,14 @@ def large(workdir, outdir):
             ("ratio: our decode --layout mixed / draco_decoder (target <= 1.5)",
              f"{med['decode_mixed'] / med['draco_decoder']:.2f}"),
         ]
+    if "encode_default" in med:  # a plain `encode`: quality floor and the equal-quality check apply
+        dprims = json.load(open(os.path.join(workdir, "info_default.json"))).get("primitives", [])
+        rows += [
+            ("plain `encode` (defaults, what a user gets): file bytes / wall s / peak RSS MiB",
+             f"{size('default.glb'):,} / {med['encode_default']:.1f} / {rss['encode_default'] / 1024:.0f}"),
+            ("plain `encode`: primitives with implicit UVs / all",
+             f"{sum(bool(p.get('implicit_uv')) for p in dprims)} / {len(dprims)}"),
+        ]
     rows += decode_stage_rows(os.path.join(workdir, "stages.json"))
     rows += [
         ("ratio: our decode / gltf-warp decode of explicit-UV Draco-12", f"{med['decode'] / med['decode_explicit']:.2f}"),
