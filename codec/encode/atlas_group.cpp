@@ -533,11 +533,16 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       LossySources lossy = lossy_sources(model, group, group_options, replaceable);
       LosslessRepacks repacks;
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
+      NormalMapsAsAsked normals;
+      if (Error e =
+              normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
+          e.failed())
+        return e;
       if (controlled) {
         const double target = std::max(aim.goal, min_psnr);
         EqualQualityImages at_target;
         if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
-                                           repacks, target, at_target);
+                                           repacks, normals, target, at_target);
             e.failed())
           return e;
         LossySources recode;
@@ -546,6 +551,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       }
       if (Error e = recode_sources_as_asked(model, group_options, lossy, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
+      write_normal_maps_as_asked(model, normals, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
@@ -574,7 +580,11 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     LosslessRepacks repacks;
     if (options.quality_fallback)
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
-    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
+    NormalMapsAsAsked normals;
+    if (Error e = normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
+        e.failed())
+      return e;
+    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks, normals,
                                        built.floor_psnr(), alternative);
         e.failed())
       return e;
@@ -603,13 +613,14 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
         EqualQualityImages at_target = alternative;
         if (target > built.floor_psnr())
           if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
-                                             repacks, target, at_target);
+                                             repacks, normals, target, at_target);
               e.failed())
             return e;
         sources_at_target(model, lossy, at_target, target, recode, why);
       }
       if (Error e = recode_sources_as_asked(model, group_options, recode, sources, why); e.failed()) return e;
       write_lossless_repacks(model, repacks, why);
+      write_normal_maps_as_asked(model, normals, why);
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }

@@ -75,6 +75,10 @@ struct Fallback {
   // pixels (lossless_repacks), with their bytes before and after.
   uint32_t images_repacked = 0;
   size_t repacked_bytes_before = 0, repacked_bytes_after = 0;
+  // Normal maps written with the coder asked (explicit_image_mime) at this
+  // quality, as the atlas would have (normal_maps_as_asked).
+  uint32_t normal_maps_recoded = 0;
+  int normal_maps_quality = 0;
   // texture_repeats: the source texels the faces cover, each use counted
   // (what the atlas would hold), and the texels of the images they sample.
   double texel_uses = 0, image_texels = 0;

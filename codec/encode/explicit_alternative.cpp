@@ -111,15 +111,53 @@ void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repac
   }
 }
 
+Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options,
+                           const std::set<int>& images, const LossySources& lossy, SourceImages& sources,
+                           LosslessRepacks& repacks, NormalMapsAsAsked& out) {
+  out = {};
+  if (options.image_format != "jpeg" && options.image_format != "webp") return {};
+  for (const SlotSource& source : slot_sources(model, group)) {
+    const int image = source.image;
+    if (!source.slot.normal_map || !images.count(image) || lossy.count(image) || out.bytes.count(image)) continue;
+    const SlotCoding coding = slot_coding(model, source, options);
+    SourceImage* decoded = nullptr;
+    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+    std::vector<uint8_t> bytes;
+    std::string err;
+    if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
+      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+    const auto repacked = repacks.find(image);
+    const size_t now =
+        repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
+    if (bytes.size() >= now) continue;  // smaller and lossless beats larger and lossy
+    if (repacked != repacks.end()) repacks.erase(repacked);
+    out.bytes.emplace(image, std::move(bytes));
+    out.mime = coding.mime;
+    out.quality = std::max(out.quality, coding.quality);
+  }
+  return {};
+}
+
+void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked& normals, Fallback& why) {
+  for (const auto& [image, bytes] : normals.bytes) {
+    replace_image_bytes(model, image, bytes, normals.mime);
+    ++why.normal_maps_recoded;
+  }
+  why.normal_maps_quality = normals.quality;
+  if (why.explicit_image_mime.empty()) why.explicit_image_mime = normals.mime;
+}
+
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
-                           const LossySources& lossy, const LosslessRepacks& repacks, double target_psnr,
-                           EqualQualityImages& out) {
+                           const LossySources& lossy, const LosslessRepacks& repacks,
+                           const NormalMapsAsAsked& normals, double target_psnr, EqualQualityImages& out) {
   out = {};
   for (int image : images) {
     const auto repacked = repacks.find(image);
-    const size_t as_is =
-        repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
+    const auto normal = normals.bytes.find(image);
+    const size_t as_is = normal != normals.bytes.end()   ? normal->second.size()
+                         : repacked != repacks.end() ? repacked->second.size()
+                                                     : model.images[size_t(image)].image.size();
     auto it = lossy.find(image);
     if (it == lossy.end() || !(target_psnr > 0)) {
       out.bytes += as_is;

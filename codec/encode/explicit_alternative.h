@@ -58,12 +58,32 @@ Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images
 // Puts them in the model; why.images_repacked and the bytes before and after.
 void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repacks, Fallback& why);
 
+// Normal maps under --image-format jpeg or webp. The atlas codes them with
+// the coder asked, at the quality asked (as a user running any texture
+// compressor on the file would), but no colour a viewer shows measures
+// them, so no quality search applies. With explicit UVs they go out the
+// same way, where that is smaller than they are (losslessly repacked or as
+// is); each such image leaves `repacks`. Without this, a fallback of a
+// JPEG encode kept TwoSidedPlane's normal map as a PNG: 26.6 KB more than
+// its implicit file or baseline 1 spends at JPEG q10. image -> new bytes.
+struct NormalMapsAsAsked {
+  std::map<int, std::vector<uint8_t>> bytes;
+  std::string mime;
+  int quality = 0;  // their largest
+};
+Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options,
+                           const std::set<int>& images, const LossySources& lossy, SourceImages& sources,
+                           LosslessRepacks& repacks, NormalMapsAsAsked& out);
+// Puts them in the model; why.normal_maps_recoded and their quality.
+void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked& normals, Fallback& why);
+
 // target_psnr: the atlas's floor_psnr(). `images`: the source images the
 // atlas would replace (replaceable_images' set); `lossy`: lossy_sources of
-// them (the caller keeps it for recode_sources_as_asked).
+// them (the caller keeps it for recode_sources_as_asked). An image that
+// `repacks` or `normals` holds counts at those bytes unless it is searched.
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
-                           const LossySources& lossy, const LosslessRepacks& repacks, double target_psnr,
-                           EqualQualityImages& out);
+                           const LossySources& lossy, const LosslessRepacks& repacks,
+                           const NormalMapsAsAsked& normals, double target_psnr, EqualQualityImages& out);
 
 }  // namespace gltfwarp
