@@ -46,8 +46,8 @@ void append_recoded(char* line, size_t size, const Fallback& f) {
   if (f.normal_maps_recoded > 0) {
     const size_t used = std::strlen(line);
     std::snprintf(line + used, size - used, "; %u normal map%s written as %s q%d, as the atlas would have",
-                  f.normal_maps_recoded, f.normal_maps_recoded == 1 ? "" : "s", coder_name(f.explicit_image_mime),
-                  f.normal_maps_quality);
+                  f.normal_maps_recoded, f.normal_maps_recoded == 1 ? "" : "s",
+                  coder_name(f.explicit_image_mime), f.normal_maps_quality);
   }
   if (f.images_repacked > 0) {
     const size_t used = std::strlen(line);

@@ -534,8 +534,8 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       LosslessRepacks repacks;
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
       NormalMapsAsAsked normals;
-      if (Error e =
-              normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
+      if (Error e = normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks,
+                                         normals);
           e.failed())
         return e;
       if (controlled) {
@@ -581,11 +581,12 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     if (options.quality_fallback)
       if (Error e = lossless_repacks(model, replaceable, lossy, sources, repacks); e.failed()) return e;
     NormalMapsAsAsked normals;
-    if (Error e = normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
+    if (Error e =
+            normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
         e.failed())
       return e;
-    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks, normals,
-                                       built.floor_psnr(), alternative);
+    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
+                                       normals, built.floor_psnr(), alternative);
         e.failed())
       return e;
     explicit_bytes += alternative.bytes;

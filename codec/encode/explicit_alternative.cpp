@@ -111,14 +111,16 @@ void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repac
   }
 }
 
-Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options,
-                           const std::set<int>& images, const LossySources& lossy, SourceImages& sources,
-                           LosslessRepacks& repacks, NormalMapsAsAsked& out) {
+Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group,
+                           const EncodeOptions& options, const std::set<int>& images,
+                           const LossySources& lossy, SourceImages& sources, LosslessRepacks& repacks,
+                           NormalMapsAsAsked& out) {
   out = {};
   if (options.image_format != "jpeg" && options.image_format != "webp") return {};
   for (const SlotSource& source : slot_sources(model, group)) {
     const int image = source.image;
-    if (!source.slot.normal_map || !images.count(image) || lossy.count(image) || out.bytes.count(image)) continue;
+    if (!source.slot.normal_map || !images.count(image) || lossy.count(image) || out.bytes.count(image))
+      continue;
     const SlotCoding coding = slot_coding(model, source, options);
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
@@ -155,9 +157,9 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
   for (int image : images) {
     const auto repacked = repacks.find(image);
     const auto normal = normals.bytes.find(image);
-    const size_t as_is = normal != normals.bytes.end()   ? normal->second.size()
-                         : repacked != repacks.end() ? repacked->second.size()
-                                                     : model.images[size_t(image)].image.size();
+    const size_t as_is = normal != normals.bytes.end() ? normal->second.size()
+                         : repacked != repacks.end()   ? repacked->second.size()
+                                                       : model.images[size_t(image)].image.size();
     auto it = lossy.find(image);
     if (it == lossy.end() || !(target_psnr > 0)) {
       out.bytes += as_is;

@@ -71,9 +71,10 @@ struct NormalMapsAsAsked {
   std::string mime;
   int quality = 0;  // their largest
 };
-Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options,
-                           const std::set<int>& images, const LossySources& lossy, SourceImages& sources,
-                           LosslessRepacks& repacks, NormalMapsAsAsked& out);
+Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group,
+                           const EncodeOptions& options, const std::set<int>& images,
+                           const LossySources& lossy, SourceImages& sources, LosslessRepacks& repacks,
+                           NormalMapsAsAsked& out);
 // Puts them in the model; why.normal_maps_recoded and their quality.
 void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked& normals, Fallback& why);
 
