@@ -31,6 +31,17 @@ struct Coded {
   double psnr = 0;
 };
 
+// Source image `image` through the coder and quality of `coding`.
+Error code_as(const tinygltf::Model& model, int image, const SlotCoding& coding, SourceImages& sources,
+              std::vector<uint8_t>& bytes) {
+  SourceImage* decoded = nullptr;
+  if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
+  std::string err;
+  if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
+    return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+  return {};
+}
+
 }  // namespace
 
 LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
@@ -50,12 +61,8 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
   if (options.image_format != "jpeg" && options.image_format != "webp") return {};
   for (const auto& [image, source_coding] : lossy) {
     const SlotCoding& coding = source_coding.second;
-    SourceImage* decoded = nullptr;
-    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
     std::vector<uint8_t> bytes;
-    std::string err;
-    if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
-      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+    if (Error e = code_as(model, image, coding, sources, bytes); e.failed()) return e;
     // The coder asked can only lose quality here: where it does not save
     // bytes either, the source as it is is the better file on both counts
     // (the Fox's flat-colour PNG is 26.8 KB; as JPEG q85, 80.7 KB, and the file
@@ -122,12 +129,8 @@ Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group
     if (!source.slot.normal_map || !images.count(image) || lossy.count(image) || out.bytes.count(image))
       continue;
     const SlotCoding coding = slot_coding(model, source, options);
-    SourceImage* decoded = nullptr;
-    if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
     std::vector<uint8_t> bytes;
-    std::string err;
-    if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
-      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
+    if (Error e = code_as(model, image, coding, sources, bytes); e.failed()) return e;
     const auto repacked = repacks.find(image);
     const size_t now =
         repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
