@@ -447,6 +447,19 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
   }
 }
 
+// A group that keeps explicit UVs writes its source images as the
+// comparison priced them: colour sources in the coder asked, PNGs repacked,
+// normal maps in the coder asked. Both fallbacks (below the floor, explicit
+// smaller) end so.
+Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, const LossySources& recode,
+                         const LosslessRepacks& repacks, const NormalMapsAsAsked& normals,
+                         SourceImages& sources, Fallback& why) {
+  if (Error e = recode_sources_as_asked(model, options, recode, sources, why); e.failed()) return e;
+  write_lossless_repacks(model, repacks, why);
+  write_normal_maps_as_asked(model, normals, why);
+  return {};
+}
+
 // The lossy-coded sources (lossy_sources' keys).
 std::set<int> images_of(const LossySources& lossy) {
   std::set<int> images;
@@ -549,9 +562,9 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
         sources_at_target(model, lossy, at_target, target, recode, why);
         lossy = std::move(recode);
       }
-      if (Error e = recode_sources_as_asked(model, group_options, lossy, sources, why); e.failed()) return e;
-      write_lossless_repacks(model, repacks, why);
-      write_normal_maps_as_asked(model, normals, why);
+      if (Error e = write_kept_sources(model, group_options, lossy, repacks, normals, sources, why);
+          e.failed())
+        return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
@@ -619,9 +632,9 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
             return e;
         sources_at_target(model, lossy, at_target, target, recode, why);
       }
-      if (Error e = recode_sources_as_asked(model, group_options, recode, sources, why); e.failed()) return e;
-      write_lossless_repacks(model, repacks, why);
-      write_normal_maps_as_asked(model, normals, why);
+      if (Error e = write_kept_sources(model, group_options, recode, repacks, normals, sources, why);
+          e.failed())
+        return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
       continue;
     }
