@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <random>
 #include <vector>
@@ -88,6 +89,42 @@ TEST(AtlasFill, NothingKeptGivesZeroAndBadSizesAreIgnored) {
   pull_push_fill(keep.data(), 0, 4, 3, false, {});
   pull_push_fill(keep.data(), 4, 4, 9, false, empty);  // too many channels
   EXPECT_EQ(keep, before);
+}
+
+// flatten_empty_blocks: a block with no kept texel becomes its own mean, a
+// block with one kept texel is left as it was, and partial blocks at the
+// right and bottom edges count as blocks.
+TEST(AtlasFill, FlattensOnlyWhollyEmptyBlocksToTheirMean) {
+  const int w = 20, h = 13, nch = 3;  // blocks of 8: 3 x 2, the last column and row partial
+  std::mt19937 rng(11);
+  std::vector<uint8_t> px(size_t(w) * h * nch), empty(size_t(w) * h, 1);
+  for (uint8_t& v : px) v = uint8_t(rng() % 256);
+  empty[size_t(2) * w + 3] = 0;    // block (0, 0) keeps one texel
+  empty[size_t(12) * w + 17] = 0;  // so does the partial block (2, 1)
+  const std::vector<uint8_t> before = px;
+  flatten_empty_blocks(px.data(), w, h, nch, false, empty, 8);
+  for (int by = 0; by < 2; ++by)
+    for (int bx = 0; bx < 3; ++bx) {
+      const bool kept = (bx == 0 && by == 0) || (bx == 2 && by == 1);
+      const int x0 = 8 * bx, y0 = 8 * by, x1 = std::min(w, x0 + 8), y1 = std::min(h, y0 + 8);
+      for (int c = 0; c < nch; ++c) {
+        double sum = 0;
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) sum += before[(size_t(y) * w + x) * nch + c];
+        const auto mean = uint8_t(std::lround(sum / ((x1 - x0) * (y1 - y0))));
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) {
+            const size_t i = (size_t(y) * w + x) * nch + c;
+            ASSERT_EQ(px[i], kept ? before[i] : mean)
+                << "block " << bx << "," << by << " texel " << x << "," << y;
+          }
+      }
+    }
+  // Bad sizes change nothing.
+  const std::vector<uint8_t> now = px;
+  flatten_empty_blocks(px.data(), w, h, nch, false, std::vector<uint8_t>(7, 1), 8);
+  flatten_empty_blocks(px.data(), w, h, nch, false, empty, 0);
+  EXPECT_EQ(px, now);
 }
 
 }  // namespace

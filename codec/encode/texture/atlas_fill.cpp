@@ -112,4 +112,46 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
   });
 }
 
+void flatten_empty_blocks(uint8_t* pixels, int width, int height, int channels, bool deep,
+                          std::span<const uint8_t> empty, int block) {
+  if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || block < 1 ||
+      empty.size() != size_t(width) * height)
+    return;
+  const int nch = channels;
+  const int rows = (height + block - 1) / block;
+  // Each band of blocks writes only its own texels.
+  OIIO::parallel_for(0, rows, [&](int band) {
+    const int y0 = band * block, y1 = std::min(height, y0 + block);
+    for (int x0 = 0; x0 < width; x0 += block) {
+      const int x1 = std::min(width, x0 + block);
+      bool all_empty = true;
+      for (int y = y0; y < y1 && all_empty; ++y)
+        for (int x = x0; x < x1; ++x)
+          if (!empty[size_t(y) * width + x]) {
+            all_empty = false;
+            break;
+          }
+      if (!all_empty) continue;
+      const double count = double(x1 - x0) * double(y1 - y0);
+      for (int c = 0; c < nch; ++c) {
+        double sum = 0;
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) {
+            const size_t i = (size_t(y) * width + x) * nch + c;
+            sum += deep ? double(reinterpret_cast<const uint16_t*>(pixels)[i]) : double(pixels[i]);
+          }
+        const double mean = std::round(sum / count);
+        for (int y = y0; y < y1; ++y)
+          for (int x = x0; x < x1; ++x) {
+            const size_t i = (size_t(y) * width + x) * nch + c;
+            if (deep)
+              reinterpret_cast<uint16_t*>(pixels)[i] = uint16_t(mean);
+            else
+              pixels[i] = uint8_t(mean);
+          }
+      }
+    }
+  });
+}
+
 }  // namespace gltfwarp

@@ -61,6 +61,8 @@ enum class EmptyFill : uint8_t {
   // coefficients on: smaller JPEG atlases at the same or higher PSNR
   // (benchmarks/results/jpeg85: the corpus with its PNGs turned into JPEG
   // q85). As PNG it costs more than the flat mean, so PNG keeps `mean`.
+  // Blocks of 16 and then 8 texels that are wholly empty are then made flat
+  // (flatten_empty_blocks): no AC coefficients where nothing is sampled.
   pull_push,
 };
 
