@@ -1,9 +1,16 @@
-// Image I/O: PNG and JPEG round trips in memory, errors for bytes OIIO cannot decode.
+// Image I/O: PNG and JPEG round trips in memory, errors for bytes OIIO cannot
+// decode, and the libjpeg writer against OpenImageIO's.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <random>
+
+#include <OpenImageIO/filesystem.h>
+#include <OpenImageIO/imageio.h>
 
 #include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/jpeg_writer.h"
 
 namespace gltfwarp {
 namespace {
@@ -61,6 +68,66 @@ TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
     for (size_t i = 0; i < size_t(64) * 48 * 3; ++i) err = std::max(err, std::abs(double(p[i]) - b[i]));
     EXPECT_LT(err, q >= 90 ? 6 : 16) << "quality " << q;
   }
+}
+
+// OpenImageIO 2.4's own JPEG writer, as the encoder used it before
+// jpeg_writer.h: the same libjpeg with its default Huffman tables.
+std::vector<uint8_t> oiio_jpeg(const OIIO::ImageBuf& img, int quality) {
+  std::vector<uint8_t> bytes;
+  OIIO::ImageSpec spec(img.spec().width, img.spec().height, img.spec().nchannels, OIIO::TypeDesc::UINT8);
+  spec.attribute("Compression", "jpeg:" + std::to_string(quality));
+  OIIO::Filesystem::IOVecOutput writer(bytes);
+  auto o = OIIO::ImageOutput::create("out.jpg", &writer);
+  EXPECT_TRUE(o && o->open("out.jpg", spec));
+  EXPECT_TRUE(o->write_image(OIIO::TypeDesc::UINT8, img.localpixels()));
+  EXPECT_TRUE(o->close());
+  return bytes;
+}
+
+// Optimised Huffman tables change only the entropy code: every pixel decodes
+// the same as from OIIO's writer at the same quality, and the file is smaller.
+TEST(ImageIo, JpegWriterDecodesToTheSamePixelsAsOiiosInFewerBytes) {
+  std::mt19937 rng(5);
+  for (const int nch : {1, 3}) {
+    OIIO::ImageBuf img(
+        OIIO::ImageSpec(203, 117, nch, OIIO::TypeDesc::UINT8));  // partial blocks at both edges
+    auto* p = static_cast<uint8_t*>(img.localpixels());
+    for (int y = 0; y < 117; ++y)
+      for (int x = 0; x < 203; ++x)
+        for (int c = 0; c < nch; ++c)
+          p[(size_t(y) * 203 + x) * nch + c] =
+              uint8_t((x < 100 ? (x * 2 + y + 30 * c) : int(rng() % 256)) & 255);
+    for (const int q : {10, 50, 90}) {
+      SCOPED_TRACE(std::to_string(nch) + " channels, quality " + std::to_string(q));
+      ImageEncodeOptions opt;
+      opt.codec = ImageCodec::jpeg;
+      opt.quality = q;
+      std::vector<uint8_t> ours;
+      ASSERT_EQ(encode_image(img, opt, ours), "");
+      const std::vector<uint8_t> theirs = oiio_jpeg(img, q);
+      EXPECT_LT(ours.size(), theirs.size());
+      DecodedImage a, b;
+      ASSERT_EQ(decode_image(ours, a), "");
+      ASSERT_EQ(decode_image(theirs, b), "");
+      ASSERT_EQ(a.pixels.spec().nchannels, nch);
+      ASSERT_EQ(b.pixels.spec().nchannels, nch);
+      EXPECT_EQ(0, std::memcmp(a.pixels.localpixels(), b.pixels.localpixels(), size_t(203) * 117 * nch));
+      EXPECT_EQ(a.jpeg_quality, b.jpeg_quality);
+    }
+  }
+}
+
+TEST(ImageIo, JpegWriterRejectsWhatJpegCannotHold) {
+  std::vector<uint8_t> bytes{1, 2, 3};
+  const std::vector<uint8_t> px(8 * 8 * 4, 128);
+  EXPECT_NE(encode_jpeg(px, 8, 8, 4, 80, bytes), "");  // alpha: the caller drops it first
+  EXPECT_TRUE(bytes.empty());
+  EXPECT_NE(encode_jpeg(std::span(px).first(8 * 8 * 2), 8, 8, 2, 80, bytes), "");
+  EXPECT_NE(encode_jpeg(px, 0, 8, 3, 80, bytes), "");
+  EXPECT_NE(encode_jpeg(px, 70000, 1, 3, 80, bytes), "");                           // beyond JPEG's 65500
+  EXPECT_NE(encode_jpeg(std::span(px).first(10), 8, 8, 3, 80, bytes), "");          // too few pixels
+  EXPECT_EQ(encode_jpeg(std::span(px).first(8 * 8 * 3), 8, 8, 3, 500, bytes), "");  // quality clamped
+  EXPECT_EQ(sniff_image_codec(bytes), ImageCodec::jpeg);
 }
 
 TEST(ImageIo, JpegDropsAlpha) {

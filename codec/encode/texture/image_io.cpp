@@ -1,6 +1,8 @@
 // In-memory image decode/encode (sources in image_io.h).
 #include "codec/encode/texture/image_io.h"
 
+#include "codec/encode/texture/jpeg_writer.h"
+
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
@@ -186,22 +188,27 @@ std::string encode_once(const ImageBuf& image, const ImageEncodeOptions& options
         OIIO::ImageBufAlgo::channels(image, nch + 2, OIIO::cspan<int>(order, size_t(nch + 2)));
     return encode_once(rgb, options, png_filter, bytes);
   }
-  const TypeDesc fmt = (!jpeg && !webp && src.format.size() > 1) ? TypeDesc::UINT16 : TypeDesc::UINT8;
+  if (jpeg) {  // libjpeg itself, for optimised Huffman tables (jpeg_writer.h)
+    std::vector<uint8_t> pixels(size_t(src.width) * size_t(src.height) * size_t(nch));
+    const OIIO::ROI roi(src.x, src.x + src.width, src.y, src.y + src.height, 0, 1, 0, nch);
+    if (!image.get_pixels(roi, TypeDesc::UINT8, pixels.data()))
+      return "cannot read pixels: " + image.geterror();
+    return encode_jpeg(pixels, src.width, src.height, nch, options.quality, bytes);
+  }
+  const TypeDesc fmt = (!webp && src.format.size() > 1) ? TypeDesc::UINT16 : TypeDesc::UINT8;
   ImageSpec spec(src.width, src.height, nch, fmt);
   if (nch == 2 || nch == 4) {
     spec.alpha_channel = nch - 1;
     spec.attribute("oiio:UnassociatedAlpha", 1);  // straight alpha in, straight alpha out
   }
   const std::string quality = std::to_string(std::clamp(options.quality, 1, 100));
-  if (jpeg) {
-    spec.attribute("Compression", "jpeg:" + quality);
-  } else if (webp) {
+  if (webp) {
     spec.attribute("Compression", "webp:" + quality);  // lossy VP8 (OIIO's WebP writer)
   } else {
     spec.attribute("png:compressionLevel", std::clamp(options.png_compression, 0, 9));
     if (png_filter != 0) spec.attribute("png:filter", png_filter);
   }
-  const char* name = jpeg ? "out.jpg" : webp ? "out.webp" : "out.png";
+  const char* name = webp ? "out.webp" : "out.png";
   OIIO::Filesystem::IOVecOutput writer(bytes);
   auto o = ImageOutput::create(name, &writer);
   if (!o) return "no " + std::string(to_string(options.codec)) + " writer: " + OIIO::geterror();

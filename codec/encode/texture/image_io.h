@@ -1,4 +1,5 @@
-// Image bytes <-> pixels, in memory, through OpenImageIO (no temporary files).
+// Image bytes <-> pixels, in memory, through OpenImageIO (no temporary files);
+// JPEG output through libjpeg itself (jpeg_writer.h).
 //
 // Source: OIIO 2.4's IOProxy interface (Filesystem::IOMemReader and
 // IOVecOutput), as documented in the OpenImageIO manual, "Custom I/O proxies".
