@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <set>
 
 #include "codec/decode/tangents.h"
 #include "codec/encode/texture/warp.h"
@@ -324,6 +325,34 @@ TEST(Warp, PullPushFillContinuesTheNearestPatch) {
       }
     }
   EXPECT_GT(changed, 0u);
+}
+
+// Beyond the patches the pull-push fill varies (red fading to blue), but
+// each wholly empty 16x16 block of it is flat (flatten_empty_blocks): a
+// block coder spends no AC coefficient where no viewer samples.
+TEST(Warp, PullPushFillIsFlatOverEachWhollyEmptyBlock) {
+  const RedBlueScene scene;
+  constexpr int W = 128, H = 32;  // the scene's patches, with 64 wholly empty columns beside them
+  Patch a, b;
+  a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);
+  b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);
+  const WarpPrimitive prims[2] = {a.view(), b.view()};
+  WarpOptions smooth;
+  smooth.empty_fill = EmptyFill::pull_push;
+  OIIO::ImageBuf out;
+  ASSERT_EQ(warp_texture(scene.src, prims, W, H, smooth, out), WarpStatus::ok);
+  std::set<uint32_t> block_colours;  // packed RGB
+  for (int y0 = 0; y0 < H; y0 += 16)
+    for (int x0 = 64; x0 < W; x0 += 16) {  // gutters end before x = 56
+      const uint8_t* first = texel(out, x0, y0);
+      block_colours.insert(uint32_t(first[0]) << 16 | uint32_t(first[1]) << 8 | first[2]);
+      for (int y = y0; y < y0 + 16; ++y)
+        for (int x = x0; x < x0 + 16; ++x) {
+          const uint8_t* p = texel(out, x, y);
+          ASSERT_EQ(std::vector<uint8_t>(p, p + 3), std::vector<uint8_t>(first, first + 3)) << x << "," << y;
+        }
+    }
+  EXPECT_GT(block_colours.size(), 1u) << "the fill should vary from block to block";
 }
 
 // Normal maps: frames with the same normal, the new tangent turned by `a`.
