@@ -65,8 +65,8 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
     if (Error e = code_as(model, image, coding, sources, bytes); e.failed()) return e;
     // The coder asked can only lose quality here: where it does not save
     // bytes either, the source as it is is the better file on both counts
-    // (the Fox's flat-colour PNG is 26.8 KB; as JPEG q85, 80.7 KB, and the file
-    // 39.5 dB instead of 52.1).
+    // (the Fox's flat-colour 26.8 KB PNG: with it as JPEG q85 the file is
+    // 153,460 B at 39.5 dB, with the PNG 110,564 B at 52.1 dB; bench at 689e4e2).
     const size_t source_bytes = model.images[size_t(image)].image.size();
     if (bytes.size() >= source_bytes) {
       ++why.images_kept;

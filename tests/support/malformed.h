@@ -41,8 +41,10 @@ int add_png_image(tinygltf::Model& m, int size);
 // A size x size PNG of smooth colour ramps (no detail finer than the image),
 // unlike add_png_image's 4-texel checker: it survives a warp at 38 dB.
 int add_gradient_png_image(tinygltf::Model& m, int size);
-// A size x size PNG of four flat-coloured quadrants, as low-poly models paint
-// (the Fox): a few hundred bytes as PNG, more as JPEG at any quality.
+// A size x size PNG of four flat colours in diagonal bands 6 texels wide, as
+// low-poly models paint (the Fox): small as PNG, more as JPEG at q85, whose
+// blocks pay for every edge (even with optimised Huffman tables; flat
+// quadrants no longer do).
 int add_flat_png_image(tinygltf::Model& m, int size);
 int add_texture(tinygltf::Model& m, int image, int sampler = -1);
 int add_material(tinygltf::Model& m, int texture, int tex_coord = 0);
