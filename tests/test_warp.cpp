@@ -247,15 +247,16 @@ TEST(Warp, SrgbFlatColourRoundTripIsExact) {
     }
 }
 
-// Two square patches in a 64 x 32 atlas: red at atlas x in [4, 20], blue at
-// x in [28, 44], both at y in [8, 24], from a source whose left half is red
-// and right half blue.
+// Two square patches in a 64 x 32 atlas (or a wider one): red at atlas x in
+// [4, 20], blue at x in [28, 44], both at y in [8, 24], from a source whose
+// left half is red and right half blue.
 struct RedBlueScene {
-  static constexpr int W = 64, H = 32;
+  static constexpr int H = 32;
+  int W = 64;
   OIIO::ImageBuf src = make_image(
       32, 16, 3, [](int x, int, uint8_t* p) { p[0] = x < 16 ? 255 : 0, p[1] = 0, p[2] = x < 16 ? 0 : 255; });
   Patch a, b;
-  RedBlueScene() {
+  explicit RedBlueScene(int width = 64) : W(width) {
     a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);
     b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);
   }
@@ -331,12 +332,9 @@ TEST(Warp, PullPushFillContinuesTheNearestPatch) {
 // each wholly empty 16x16 block of it is flat (flatten_empty_blocks): a
 // block coder spends no AC coefficient where no viewer samples.
 TEST(Warp, PullPushFillIsFlatOverEachWhollyEmptyBlock) {
-  const RedBlueScene scene;
-  constexpr int W = 128, H = 32;  // the scene's patches, with 64 wholly empty columns beside them
-  Patch a, b;
-  a.add(4, 8, 16, 0, 0, 16, 0.1, 0.2, 0.3, 0, 0, 0.6, W, H);
-  b.add(28, 8, 16, 0, 0, 16, 0.6, 0.2, 0.3, 0, 0, 0.6, W, H);
-  const WarpPrimitive prims[2] = {a.view(), b.view()};
+  const RedBlueScene scene(128);  // 64 wholly empty columns beside the patches
+  const int W = scene.W, H = scene.H;
+  const WarpPrimitive prims[2] = {scene.a.view(), scene.b.view()};
   WarpOptions smooth;
   smooth.empty_fill = EmptyFill::pull_push;
   OIIO::ImageBuf out;

@@ -18,6 +18,19 @@ struct Level {
   std::vector<uint8_t> known;  // w * h
 };
 
+// Value i (texel * channels + channel) of 8-bit or 16-bit (deep) pixels.
+double channel_value(const uint8_t* pixels, bool deep, size_t i) {
+  return deep ? double(reinterpret_cast<const uint16_t*>(pixels)[i]) : double(pixels[i]);
+}
+
+// Stores q, already rounded and within the depth's range.
+void store_channel(uint8_t* pixels, bool deep, size_t i, double q) {
+  if (deep)
+    reinterpret_cast<uint16_t*>(pixels)[i] = uint16_t(q);
+  else
+    pixels[i] = uint8_t(q);
+}
+
 }  // namespace
 
 void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool deep,
@@ -26,8 +39,7 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
     return;
   const int nch = channels;
   auto texel = [&](int x, int y, int c) -> float {
-    const size_t i = (size_t(y) * width + x) * nch + c;
-    return deep ? float(reinterpret_cast<const uint16_t*>(pixels)[i]) : float(pixels[i]);
+    return float(channel_value(pixels, deep, (size_t(y) * width + x) * nch + c));
   };
   // Pull: level 1 from the pixels, each further level from the one below,
   // down to a single texel. Each parent averages its kept children. Rows of
@@ -102,11 +114,7 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
       if (!empty[i]) continue;
       interpolate(up, (x + 0.5) / 2.0 - 0.5, (y + 0.5) / 2.0 - 0.5, v);
       for (int c = 0; c < nch; ++c) {
-        const double q = std::round(std::clamp(double(v[c]), 0.0, top));
-        if (deep)
-          reinterpret_cast<uint16_t*>(pixels)[i * nch + c] = uint16_t(q);
-        else
-          pixels[i * nch + c] = uint8_t(q);
+        store_channel(pixels, deep, i * nch + c, std::round(std::clamp(double(v[c]), 0.0, top)));
       }
     }
   });
@@ -136,19 +144,10 @@ void flatten_empty_blocks(uint8_t* pixels, int width, int height, int channels, 
       for (int c = 0; c < nch; ++c) {
         double sum = 0;
         for (int y = y0; y < y1; ++y)
-          for (int x = x0; x < x1; ++x) {
-            const size_t i = (size_t(y) * width + x) * nch + c;
-            sum += deep ? double(reinterpret_cast<const uint16_t*>(pixels)[i]) : double(pixels[i]);
-          }
+          for (int x = x0; x < x1; ++x) sum += channel_value(pixels, deep, (size_t(y) * width + x) * nch + c);
         const double mean = std::round(sum / count);
         for (int y = y0; y < y1; ++y)
-          for (int x = x0; x < x1; ++x) {
-            const size_t i = (size_t(y) * width + x) * nch + c;
-            if (deep)
-              reinterpret_cast<uint16_t*>(pixels)[i] = uint16_t(mean);
-            else
-              pixels[i] = uint8_t(mean);
-          }
+          for (int x = x0; x < x1; ++x) store_channel(pixels, deep, (size_t(y) * width + x) * nch + c, mean);
       }
     }
   });
