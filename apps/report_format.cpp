@@ -51,7 +51,7 @@ void append_recoded(char* line, size_t size, const Fallback& f) {
   }
   if (f.images_repacked > 0) {
     const size_t used = std::strlen(line);
-    std::snprintf(line + used, size - used, "; %u source PNG%s written again losslessly, %zu -> %zu bytes",
+    std::snprintf(line + used, size - used, "; %u source image%s written again losslessly, %zu -> %zu bytes",
                   f.images_repacked, f.images_repacked == 1 ? "" : "s", f.repacked_bytes_before,
                   f.repacked_bytes_after);
   }

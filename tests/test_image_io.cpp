@@ -11,6 +11,7 @@
 
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/jpeg_writer.h"
+#include "support/generic_jpeg.h"
 
 namespace gltfwarp {
 namespace {
@@ -70,33 +71,25 @@ TEST(ImageIo, JpegRoundTripIsCloseAndQualityIsEstimated) {
   }
 }
 
-// OpenImageIO 2.4's own JPEG writer, as the encoder used it before
-// jpeg_writer.h: the same libjpeg with its default Huffman tables.
-std::vector<uint8_t> oiio_jpeg(const OIIO::ImageBuf& img, int quality) {
-  std::vector<uint8_t> bytes;
-  OIIO::ImageSpec spec(img.spec().width, img.spec().height, img.spec().nchannels, OIIO::TypeDesc::UINT8);
-  spec.attribute("Compression", "jpeg:" + std::to_string(quality));
-  OIIO::Filesystem::IOVecOutput writer(bytes);
-  auto o = OIIO::ImageOutput::create("out.jpg", &writer);
-  EXPECT_TRUE(o && o->open("out.jpg", spec));
-  EXPECT_TRUE(o->write_image(OIIO::TypeDesc::UINT8, img.localpixels()));
-  EXPECT_TRUE(o->close());
-  return bytes;
+// 203 x 117 (partial blocks at both edges): a gradient on the left, noise on the right.
+OIIO::ImageBuf half_noise(int nch) {
+  std::mt19937 rng(5);
+  OIIO::ImageBuf img(OIIO::ImageSpec(203, 117, nch, OIIO::TypeDesc::UINT8));
+  auto* p = static_cast<uint8_t*>(img.localpixels());
+  for (int y = 0; y < 117; ++y)
+    for (int x = 0; x < 203; ++x)
+      for (int c = 0; c < nch; ++c)
+        p[(size_t(y) * 203 + x) * nch + c] =
+            uint8_t((x < 100 ? (x * 2 + y + 30 * c) : int(rng() % 256)) & 255);
+  return img;
 }
 
 // Optimised Huffman tables change only the entropy code: every pixel decodes
-// the same as from OIIO's writer at the same quality, and the file is smaller.
+// the same as from OIIO's writer (as the encoder used it before
+// jpeg_writer.h) at the same quality, and the file is smaller.
 TEST(ImageIo, JpegWriterDecodesToTheSamePixelsAsOiiosInFewerBytes) {
-  std::mt19937 rng(5);
   for (const int nch : {1, 3}) {
-    OIIO::ImageBuf img(
-        OIIO::ImageSpec(203, 117, nch, OIIO::TypeDesc::UINT8));  // partial blocks at both edges
-    auto* p = static_cast<uint8_t*>(img.localpixels());
-    for (int y = 0; y < 117; ++y)
-      for (int x = 0; x < 203; ++x)
-        for (int c = 0; c < nch; ++c)
-          p[(size_t(y) * 203 + x) * nch + c] =
-              uint8_t((x < 100 ? (x * 2 + y + 30 * c) : int(rng() % 256)) & 255);
+    const OIIO::ImageBuf img = half_noise(nch);
     for (const int q : {10, 50, 90}) {
       SCOPED_TRACE(std::to_string(nch) + " channels, quality " + std::to_string(q));
       ImageEncodeOptions opt;
@@ -104,7 +97,7 @@ TEST(ImageIo, JpegWriterDecodesToTheSamePixelsAsOiiosInFewerBytes) {
       opt.quality = q;
       std::vector<uint8_t> ours;
       ASSERT_EQ(encode_image(img, opt, ours), "");
-      const std::vector<uint8_t> theirs = oiio_jpeg(img, q);
+      const std::vector<uint8_t> theirs = test::generic_jpeg(img, q);
       EXPECT_LT(ours.size(), theirs.size());
       DecodedImage a, b;
       ASSERT_EQ(decode_image(ours, a), "");
@@ -182,6 +175,82 @@ TEST(ImageIo, GarbageAndKtx2GiveErrors) {
   EXPECT_EQ(sniff_image_codec(ktx2), ImageCodec::ktx2);
   const std::string e = decode_image(ktx2, dec);
   EXPECT_NE(e.find("KTX2"), std::string::npos) << e;
+}
+
+// A JPEG's segments before its first scan (APPn, COM), as marker and payload, in order.
+std::vector<std::pair<int, std::vector<uint8_t>>> metadata_segments(const std::vector<uint8_t>& b) {
+  std::vector<std::pair<int, std::vector<uint8_t>>> out;
+  for (size_t i = 2; i + 4 <= b.size() && b[i] == 0xFF && b[i + 1] != 0xDA;) {
+    const size_t len = size_t(b[i + 2]) << 8 | b[i + 3];
+    if ((b[i + 1] >= 0xE0 && b[i + 1] <= 0xEF) || b[i + 1] == 0xFE)
+      out.emplace_back(b[i + 1],
+                       std::vector<uint8_t>(b.begin() + std::ptrdiff_t(i + 4),
+                                            b.begin() + std::ptrdiff_t(std::min(b.size(), i + 2 + len))));
+    i += 2 + len;
+  }
+  return out;
+}
+
+// `jpeg` with a segment (marker, payload) inserted after its first segment (JFIF's APP0).
+void insert_segment(std::vector<uint8_t>& jpeg, int marker, const std::string& payload) {
+  const size_t at = 4 + (size_t(jpeg[4]) << 8 | jpeg[5]);
+  const size_t len = payload.size() + 2;
+  std::vector<uint8_t> seg = {0xFF, uint8_t(marker), uint8_t(len >> 8), uint8_t(len)};
+  seg.insert(seg.end(), payload.begin(), payload.end());
+  jpeg.insert(jpeg.begin() + std::ptrdiff_t(at), seg.begin(), seg.end());
+}
+
+bool has_marker(const std::vector<uint8_t>& b, uint8_t marker) {
+  for (size_t i = 0; i + 1 < b.size(); ++i)
+    if (b[i] == 0xFF && b[i + 1] == marker) return true;
+  return false;
+}
+
+// jpegtran -optimize, in process: the same pixels from fewer bytes, with the
+// source's EXIF, ICC profile and comment segments carried over in order, and
+// a progressive source coming out as one baseline scan.
+TEST(ImageIo, JpegLosslessRecodeKeepsPixelsAndSegmentsInFewerBytes) {
+  for (const int nch : {1, 3})
+    for (const bool progressive : {false, true}) {
+      SCOPED_TRACE(std::to_string(nch) + " channels" + (progressive ? ", progressive" : ""));
+      std::vector<uint8_t> source = test::generic_jpeg(half_noise(nch), 80, progressive);
+      ASSERT_FALSE(source.empty());
+      ASSERT_EQ(has_marker(source, 0xC2), progressive);  // SOF2: the writer did as asked
+      insert_segment(source, 0xFE, "made by a test");
+      insert_segment(source, 0xE2, std::string("ICC_PROFILE\0\1\1", 14) + std::string(300, 'p'));
+      insert_segment(source, 0xE1, std::string("Exif\0\0", 6) + std::string(100, 'e'));
+      std::vector<uint8_t> recoded;
+      ASSERT_EQ(recode_jpeg_losslessly(source, recoded), "");
+      if (!progressive) {
+        EXPECT_LT(recoded.size(), source.size());
+      }
+      EXPECT_FALSE(has_marker(recoded, 0xC2));
+      EXPECT_EQ(metadata_segments(recoded), metadata_segments(source));
+      ASSERT_GE(metadata_segments(source).size(), 4u);  // JFIF, EXIF, ICC, comment (and what OIIO adds)
+      DecodedImage a, b;
+      ASSERT_EQ(decode_image(source, a), "");
+      ASSERT_EQ(decode_image(recoded, b), "");
+      ASSERT_EQ(b.pixels.spec().nchannels, nch);
+      EXPECT_EQ(0, std::memcmp(a.pixels.localpixels(), b.pixels.localpixels(), size_t(203) * 117 * nch));
+    }
+}
+
+// What is not a whole JPEG stays as it is: a one-line error, no bytes, no crash.
+TEST(ImageIo, JpegLosslessRecodeRefusesDamagedData) {
+  const std::vector<uint8_t> good = test::generic_jpeg(half_noise(3), 80);
+  std::vector<std::vector<uint8_t>> bad = {
+      {}, {0xFF, 0xD8}, std::vector<uint8_t>(good.begin(), good.begin() + std::ptrdiff_t(good.size() / 2))};
+  std::vector<uint8_t> flipped = good;
+  for (size_t i = flipped.size() / 2; i < flipped.size() - 2; i += 7) flipped[i] ^= 0x5A;
+  bad.push_back(flipped);
+  bad.push_back(std::vector<uint8_t>(good.begin(), good.begin() + 20));
+  for (size_t k = 0; k < bad.size(); ++k) {
+    std::vector<uint8_t> out = {1};
+    const std::string err = recode_jpeg_losslessly(bad[k], out);
+    EXPECT_NE(err, "") << k;
+    EXPECT_EQ(err.find('\n'), std::string::npos) << err;
+    EXPECT_TRUE(out.empty()) << k;
+  }
 }
 
 }  // namespace

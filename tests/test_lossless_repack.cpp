@@ -1,12 +1,14 @@
 // A group that keeps explicit UVs writes its source PNGs again where our PNG
-// writer codes the same pixels smaller (issue 16: the explicit-UV file a user
-// compares with can have them too, so the encoder's comparison counts them).
+// writer codes the same pixels smaller, and its JPEGs with Huffman tables
+// optimised for them (issue 16: the explicit-UV file a user compares with
+// can have them too, so the encoder's comparison counts them).
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imagebufalgo.h>
 
 #include "codec/encode/encoder.h"
 #include "codec/encode/texture/image_io.h"
+#include "support/generic_jpeg.h"
 #include "support/malformed.h"
 
 namespace gltfwarp {
@@ -143,6 +145,62 @@ TEST(LosslessRepack, FallbackKeepsASourceTheAskedCoderWouldNotShrink) {
       EXPECT_LT(written.size(), source.size());
     }
   }
+}
+
+// add_gradient_png_image's pixels as a JPEG q90 with libjpeg's generic
+// tables, as most tools write one.
+int add_generic_jpeg_image(tinygltf::Model& m, int size) {
+  const int image = test::add_gradient_png_image(m, size);
+  OIIO::ImageBuf pixels;
+  std::string err;
+  EXPECT_TRUE(decode_image(m.images[size_t(image)].image, pixels, err)) << err;
+  m.images[size_t(image)].image = test::generic_jpeg(pixels, 90);
+  m.images[size_t(image)].mimeType = "image/jpeg";
+  return image;
+}
+
+// Kept as it is (the default --image-format keep), a source JPEG is kept in
+// fewer bytes: its coefficients re-coded with optimised tables, every pixel
+// the same.
+TEST(LosslessRepack, FallbackWritesSourceJpegsWithOptimisedTablesToTheSamePixels) {
+  tinygltf::Model m;
+  std::vector<uint8_t> source;
+  Fallback why;
+  encode_below_floor(m, add_generic_jpeg_image, EncodeOptions{}, source, why);
+  if (HasFatalFailure()) return;
+  ASSERT_EQ(sniff_image_codec(source), ImageCodec::jpeg);
+  EXPECT_EQ(why.images_repacked, 1u);
+  EXPECT_EQ(why.images_recoded_quality, 0);
+  const std::vector<uint8_t> written = written_bytes(m, 0);
+  EXPECT_EQ(why.repacked_bytes_before, source.size());
+  EXPECT_EQ(why.repacked_bytes_after, written.size());
+  EXPECT_LT(written.size(), source.size());
+  EXPECT_EQ(m.images[0].mimeType, "image/jpeg");
+  EXPECT_EQ(sniff_image_codec(written), ImageCodec::jpeg);
+  OIIO::ImageBuf before, after;
+  std::string err;
+  ASSERT_TRUE(decode_image(source, before, err)) << err;
+  ASSERT_TRUE(decode_image(written, after, err)) << err;
+  EXPECT_EQ(OIIO::ImageBufAlgo::compare(after, before, 0.0f, 0.0f).maxerror, 0.0);
+}
+
+// Asked for JPEG q30, the same group writes the source re-encoded at q30 (the
+// smaller file, as asked), not the lossless re-coding of its q90: the one
+// must not overwrite the other.
+TEST(LosslessRepack, ARecodeAsAskedIsNotOverwrittenByTheLosslessOne) {
+  EncodeOptions o;
+  o.image_format = "jpeg";
+  o.image_quality = 30;
+  tinygltf::Model m;
+  std::vector<uint8_t> source;
+  Fallback why;
+  encode_below_floor(m, add_generic_jpeg_image, o, source, why);
+  if (HasFatalFailure()) return;
+  EXPECT_EQ(why.images_recoded_quality, 30);
+  EXPECT_EQ(why.images_repacked, 0u);
+  const std::vector<uint8_t> written = written_bytes(m, 0);
+  EXPECT_EQ(estimate_jpeg_quality(written), 30);
+  EXPECT_EQ(m.images[0].mimeType, "image/jpeg");
 }
 
 }  // namespace

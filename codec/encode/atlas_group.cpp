@@ -431,15 +431,17 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
 // closest trial's quality instead (often q95), whatever the target, and one
 // whose chosen atlas fell short of the target wrote them short of it too.
 void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
-                       const EqualQualityImages& at_target, double target, LossySources& recode,
-                       Fallback& why) {
+                       const LosslessRepacks& repacks, const EqualQualityImages& at_target, double target,
+                       LossySources& recode, Fallback& why) {
   recode.clear();
   why.target_psnr = target;
   for (const auto& [image, source_coding] : lossy) {
     const auto found = at_target.qualities.find(image);
     if (found == at_target.qualities.end()) {
       ++why.images_kept_for_target;
-      why.kept_for_target_bytes += model.images[size_t(image)].image.size();
+      const auto repacked = repacks.find(image);
+      why.kept_for_target_bytes +=
+          repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
       why.explicit_image_mime = source_coding.second.mime;
       continue;
     }
@@ -448,14 +450,17 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
 }
 
 // A group that keeps explicit UVs writes its source images as the
-// comparison priced them: colour sources in the coder asked, PNGs repacked,
+// comparison priced them: colour sources in the coder asked, the others
+// re-coded losslessly where that is smaller (PNGs, JPEGs' entropy code),
 // normal maps in the coder asked. Both fallbacks (below the floor, explicit
 // smaller) end so.
 Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, const LossySources& recode,
                          const LosslessRepacks& repacks, const NormalMapsAsAsked& normals,
                          SourceImages& sources, Fallback& why) {
-  if (Error e = recode_sources_as_asked(model, options, recode, sources, why); e.failed()) return e;
-  write_lossless_repacks(model, repacks, why);
+  LosslessRepacks unless_recoded = repacks;
+  if (Error e = recode_sources_as_asked(model, options, recode, sources, unless_recoded, why); e.failed())
+    return e;
+  write_lossless_repacks(model, unless_recoded, why);
   write_normal_maps_as_asked(model, normals, why);
   return {};
 }
@@ -559,7 +564,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
             e.failed())
           return e;
         LossySources recode;
-        sources_at_target(model, lossy, at_target, target, recode, why);
+        sources_at_target(model, lossy, repacks, at_target, target, recode, why);
         lossy = std::move(recode);
       }
       if (Error e = write_kept_sources(model, group_options, lossy, repacks, normals, sources, why);
@@ -630,7 +635,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
                                              repacks, normals, target, at_target);
               e.failed())
             return e;
-        sources_at_target(model, lossy, at_target, target, recode, why);
+        sources_at_target(model, lossy, repacks, at_target, target, recode, why);
       }
       if (Error e = write_kept_sources(model, group_options, recode, repacks, normals, sources, why);
           e.failed())

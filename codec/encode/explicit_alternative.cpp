@@ -8,6 +8,7 @@
 
 #include "codec/encode/implicit_uv_encoder.h"
 #include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/jpeg_writer.h"
 #include "codec/encode/texture/warp_quality.h"
 
 namespace gltfwarp {
@@ -57,7 +58,7 @@ LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group
 }
 
 Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
-                              SourceImages& sources, Fallback& why) {
+                              SourceImages& sources, LosslessRepacks& repacks, Fallback& why) {
   if (options.image_format != "jpeg" && options.image_format != "webp") return {};
   for (const auto& [image, source_coding] : lossy) {
     const SlotCoding& coding = source_coding.second;
@@ -67,7 +68,9 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
     // bytes either, the source as it is is the better file on both counts
     // (the Fox's flat-colour 26.8 KB PNG: with it as JPEG q85 the file is
     // 153,460 B at 39.5 dB, with the PNG 110,564 B at 52.1 dB; bench at 689e4e2).
-    const size_t source_bytes = model.images[size_t(image)].image.size();
+    const auto repacked = repacks.find(image);
+    const size_t source_bytes =
+        repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
     if (bytes.size() >= source_bytes) {
       ++why.images_kept;
       why.kept_bytes += source_bytes;
@@ -76,6 +79,7 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
       why.explicit_image_mime = coding.mime;
       continue;
     }
+    if (repacked != repacks.end()) repacks.erase(repacked);
     replace_image_bytes(model, image, std::move(bytes), coding.mime);
     why.images_recoded_quality = coding.quality;
     why.explicit_image_mime = coding.mime;
@@ -83,27 +87,40 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
   return {};
 }
 
+namespace {
+
+// Whether `ours` decodes to exactly `pixels`: lossless by construction, and
+// checked, since a file's pixels are at stake.
+bool same_pixels(std::span<const uint8_t> ours, const OIIO::ImageBuf& pixels) {
+  OIIO::ImageBuf back;
+  std::string why;
+  if (!decode_image(ours, back, why)) return false;
+  const OIIO::ImageSpec &a = back.spec(), &b = pixels.spec();
+  if (a.width != b.width || a.height != b.height || a.nchannels != b.nchannels || a.format != b.format)
+    return false;
+  return OIIO::ImageBufAlgo::compare(back, pixels, 0.0f, 0.0f).maxerror == 0;
+}
+
+}  // namespace
+
 Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images, const LossySources& lossy,
                        SourceImages& sources, LosslessRepacks& out) {
   out.clear();
   for (int image : images) {
     const std::vector<uint8_t>& bytes = model.images[size_t(image)].image;
-    if (lossy.count(image) || sniff_image_codec(bytes) != ImageCodec::png || !png_holds_only_pixels(bytes))
-      continue;
+    const ImageCodec codec = sniff_image_codec(bytes);
+    // A JPEG keeps its coefficients, so it qualifies even where the group
+    // would code it lossily: kept as it is, it is kept in fewer bytes.
+    const bool png = codec == ImageCodec::png && !lossy.count(image) && png_holds_only_pixels(bytes);
+    if (!png && codec != ImageCodec::jpeg) continue;
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
     std::vector<uint8_t> ours;
-    std::string why;
-    if (!encode_image(decoded->pixels, "image/png", 0, ours, why))
-      return {ErrorCode::internal, "image " + std::to_string(image) + ": " + why};
-    if (ours.size() >= bytes.size()) continue;
-    // Lossless by construction; checked, since a file's pixels are at stake.
-    OIIO::ImageBuf back;
-    if (!decode_image(ours, back, why)) continue;
-    const OIIO::ImageSpec &a = back.spec(), &b = decoded->pixels.spec();
-    if (a.width != b.width || a.height != b.height || a.nchannels != b.nchannels || a.format != b.format)
-      continue;
-    if (OIIO::ImageBufAlgo::compare(back, decoded->pixels, 0.0f, 0.0f).maxerror != 0) continue;
+    const std::string why =
+        png ? encode_image(decoded->pixels, ImageEncodeOptions{}, ours) : recode_jpeg_losslessly(bytes, ours);
+    if (png && !why.empty()) return {ErrorCode::internal, "image " + std::to_string(image) + ": " + why};
+    // A JPEG libjpeg cannot re-code (arithmetic-coded, say) stays as it is.
+    if (!why.empty() || ours.size() >= bytes.size() || !same_pixels(ours, decoded->pixels)) continue;
     out.emplace(image, std::move(ours));
   }
   return {};
@@ -114,7 +131,8 @@ void write_lossless_repacks(tinygltf::Model& model, const LosslessRepacks& repac
     why.repacked_bytes_before += model.images[size_t(image)].image.size();
     why.repacked_bytes_after += bytes.size();
     ++why.images_repacked;
-    replace_image_bytes(model, image, bytes, "image/png");
+    replace_image_bytes(model, image, bytes,
+                        sniff_image_codec(bytes) == ImageCodec::jpeg ? "image/jpeg" : "image/png");
   }
 }
 

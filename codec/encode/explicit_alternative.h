@@ -6,9 +6,10 @@
 // own image coder. Where that coder is lossy (JPEG or WebP colour), its quality
 // is searched for the smallest file whose surface PSNR (the source's UVs,
 // the same points and filter as the atlas's check) reaches the atlas's; the
-// source's own bytes cap it. Where it is lossless (PNG, normal maps), the
-// source images count as they are, or as our PNG writer codes them where
-// that is smaller (lossless_repacks).
+// source's own bytes cap it, or its lossless re-coding where that is
+// smaller. Where it is lossless (PNG, normal maps), the source images count
+// as they are, or as our PNG writer codes them where that is smaller
+// (lossless_repacks).
 #pragma once
 
 #include <cstddef>
@@ -37,22 +38,31 @@ using LossySources = std::map<int, std::pair<SlotSource, SlotCoding>>;
 LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
                            const EncodeOptions& options, const std::set<int>& images);
 
+// Source images re-coded without changing a pixel, where that is smaller:
+// image -> its new bytes (lossless_repacks). A group that keeps explicit UVs
+// writes them (write_lossless_repacks), and the equal-quality alternative
+// counts them: a user keeping explicit UVs can have them too.
+using LosslessRepacks = std::map<int, std::vector<uint8_t>>;
+
 // A group that keeps explicit UVs, when the user asked for JPEG or WebP
 // images (--image-format), gets its lossy-coded source images in that coder
 // at the quality asked, like an atlas would have: `lossy` from
 // lossy_sources. Sets why.images_recoded_quality and explicit_image_mime.
 // An image that the coder asked does not make smaller stays as it was
-// (why.images_kept): smaller and lossless beats larger and lossy.
+// (why.images_kept): smaller and lossless beats larger and lossy. An image
+// that `repacks` holds is compared at those bytes, and leaves `repacks` when
+// it is re-coded (write_lossless_repacks must not put it back).
 // Nothing happens with --image-format keep or png.
 Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
-                              SourceImages& sources, Fallback& why);
+                              SourceImages& sources, LosslessRepacks& repacks, Fallback& why);
 
-// The PNG sources among `images` (none that `lossy` codes lossily) that our
-// PNG writer codes smaller, to the same pixels (png_holds_only_pixels: no
-// colour profile or text to lose): image -> its new bytes. A group that keeps
-// explicit UVs writes them (write_lossless_repacks), and the equal-quality
-// alternative counts them: a user keeping explicit UVs can have them too.
-using LosslessRepacks = std::map<int, std::vector<uint8_t>>;
+// The sources among `images` that re-code smaller to the same pixels:
+//  - PNGs that `lossy` does not code lossily and that hold only pixels
+//    (png_holds_only_pixels: no colour profile or text to lose), through
+//    our PNG writer;
+//  - every JPEG, lossy or not, with its coefficients and segments kept and
+//    its Huffman tables optimised (recode_jpeg_losslessly).
+// Each is decoded back and kept only where its pixels are exactly the same.
 Error lossless_repacks(const tinygltf::Model& model, const std::set<int>& images, const LossySources& lossy,
                        SourceImages& sources, LosslessRepacks& out);
 // Puts them in the model; why.images_repacked and the bytes before and after.

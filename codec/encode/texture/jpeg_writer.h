@@ -7,6 +7,10 @@
 // (CesiumMilkTruck 162,786 -> 125,074 B), pixel for pixel the same.
 // Progressive scans were smaller on some images and larger on others, and
 // cost viewers a slower decode, so they are not used.
+//
+// The same optimised tables also shrink a source JPEG without touching its
+// pixels (jpegtran -optimize): its DCT coefficients are copied as they are
+// and only re-entropy-coded. Most JPEGs carry libjpeg's generic tables.
 #pragma once
 
 #include <cstdint>
@@ -21,5 +25,15 @@ namespace gltfwarp {
 // Returns "" and the file's bytes, or a one-line error (bytes then empty).
 std::string encode_jpeg(std::span<const uint8_t> pixels, int width, int height, int channels, int quality,
                         std::vector<uint8_t>& bytes);
+
+// `jpeg` re-coded losslessly: the same quantised coefficients (so the same
+// pixels in any decoder), quantisation tables, sampling and colour space,
+// with Huffman tables optimised for them in one baseline scan. Every APPn
+// and COM segment (EXIF, ICC profile, XMP, comments) is carried over in
+// order; only the JFIF/Adobe headers libjpeg writes itself are not
+// duplicated. Restart markers are dropped (they carry no pixels).
+// Returns "" and the new bytes (they may be larger: the caller compares),
+// or a one-line error.
+std::string recode_jpeg_losslessly(std::span<const uint8_t> jpeg, std::vector<uint8_t>& bytes);
 
 }  // namespace gltfwarp
