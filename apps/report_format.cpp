@@ -27,6 +27,17 @@ void append_recoded(char* line, size_t size, const Fallback& f) {
       std::snprintf(line + used, size - used, "; the source images written as %s q%d, as asked",
                     coder_name(f.explicit_image_mime), f.images_recoded_quality);
   }
+  if (f.images_downscaled > 0) {
+    const size_t used = std::strlen(line);
+    const char* png = f.images_downscaled_png == 0                     ? ""
+                      : f.images_downscaled_png == f.images_downscaled ? ", as PNG"
+                                                                       : ", some as PNG";
+    std::snprintf(
+        line + used, size - used,
+        "; %u source image%s written with fewer texels (%.2fx a side%s): the fewest bytes that reach "
+        "%.1f dB",
+        f.images_downscaled, f.images_downscaled == 1 ? "" : "s", f.images_scale, png, f.target_psnr);
+  }
   if (f.images_kept_for_target > 0) {
     const size_t used = std::strlen(line);
     std::snprintf(line + used, size - used,

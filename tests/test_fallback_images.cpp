@@ -11,8 +11,11 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <gtest/gtest.h>
 
+#include "codec/decode/decoder.h"
 #include "codec/encode/encoder.h"
+#include "codec/encode/explicit_alternative.h"
 #include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/surface_compare.h"
 #include "format/gltf/gltf_io.h"
 #include "format/gltf/gltf_materials.h"
 #include "support/corpus.h"
@@ -120,6 +123,102 @@ TEST(FallbackImages, RateControlWritesSourcesThatReachTheTarget) {
   const auto cmp = OIIO::ImageBufAlgo::compare(a, b, 0.0f, 0.0f);
   const double psnr = cmp.rms_error > 0 ? -20 * std::log10(cmp.rms_error) : 99.0;
   EXPECT_GE(psnr, kTarget - 3.0) << "q" << report.primitives[0].fallback.images_recoded_quality;
+}
+
+// Under rate control fewer texels may reach the target in fewer bytes, as
+// the atlas's density does for the implicit map and as baseline 2 of the
+// benchmark does for explicit UVs. This sphere's colour detail does not
+// survive JPEG's 4:2:0 chroma, so its texture at half or 0.71x size, as PNG,
+// is the smallest file that reaches 40 dB. The decoded file must still
+// reach the target on the surface (0.5 dB of slack: the encoder measures
+// a million spread points, compare_surface its own set), its one image at
+// the scale the report names.
+TEST(FallbackImages, RateControlWritesFewerTexelsWhereThatReachesTheTargetInFewerBytes) {
+  constexpr double kTarget = 40.0;
+  const std::string dir = test::scratch_dir("fallback-images-downscaled");
+  tinygltf::Model source;
+  ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, source));
+  tinygltf::Model model = source;
+  EncodeOptions o;
+  o.image_format = "jpeg";
+  o.goal_psnr = kTarget;
+  EncodeReport report;
+  ASSERT_EQ(encode_model(model, o, report).message, "");
+  ASSERT_EQ(report.primitives.size(), 1u);
+  const Fallback& f = report.primitives[0].fallback;
+  ASSERT_EQ(report.primitives[0].handling, Handling::fallback);
+  ASSERT_EQ(f.images_downscaled, 1u);
+  EXPECT_TRUE(f.images_scale == kDownscales[0] || f.images_scale == kDownscales[1]) << f.images_scale;
+  ASSERT_EQ(write_gltf(model, dir + "/encoded.glb"), "");
+  tinygltf::Model decoded;
+  ASSERT_TRUE(read_gltf(dir + "/encoded.glb", decoded).ok);
+  ASSERT_EQ(decoded.images.size(), 1u);
+  const tinygltf::Image& img = decoded.images[0];
+  EXPECT_EQ(sniff_image_codec(img.image), codec_of_mime(img.mimeType)) << img.mimeType;
+  EXPECT_LT(img.image.size(), source.images[0].image.size());
+  int w = 0, h = 0;
+  std::string err;
+  ASSERT_TRUE(image_size(img.image, w, h, err)) << err;
+  EXPECT_EQ(w, int(std::lround(256 * f.images_scale)));
+  EXPECT_EQ(h, int(std::lround(256 * f.images_scale)));
+  DecodeReport dr;
+  ASSERT_EQ(decode_model(decoded, DecodeOptions{}, dr).message, "");
+  ASSERT_EQ(write_gltf(decoded, dir + "/decoded.glb"),
+            "");  // its images back in place, as a viewer reads them
+  tinygltf::Model shown;
+  ASSERT_TRUE(read_gltf(dir + "/decoded.glb", shown).ok);
+  const SurfaceComparison q = compare_surface(source, shown);
+  ASSERT_EQ(q.error, "");
+  EXPECT_GE(q.psnr, kTarget - 0.5);
+}
+
+// Rate control applies to a JPEG source under --image-format keep too (JPEG
+// stays JPEG): a group that keeps explicit UVs writes it at the quality (or
+// size) that reaches the target, as the comparison priced it (q93 here),
+// not its q95 coefficients as they were, which the comparison did not price.
+TEST(FallbackImages, RateControlWritesAKeptJpegSourceAtTheTarget) {
+  constexpr double kTarget = 40.0;
+  const std::string dir = test::scratch_dir("fallback-images-keep-jpeg");
+  tinygltf::Model png_source;
+  ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, png_source));
+  OIIO::ImageBuf pixels;
+  std::string err;
+  ASSERT_TRUE(decode_image(png_source.images[0].image, pixels, err)) << err;
+  std::vector<uint8_t> jpeg;
+  ImageEncodeOptions eo;
+  eo.codec = ImageCodec::jpeg;
+  eo.quality = 95;
+  ASSERT_EQ(encode_image(pixels, eo, jpeg), "");
+  tinygltf::Image& image = png_source.images[0];
+  image.image = jpeg;
+  image.mimeType = "image/jpeg";
+  image.bufferView = -1;  // the writer stores image.image (as_is) in a bufferView of its own
+  image.as_is = true;
+  ASSERT_EQ(write_gltf(png_source, dir + "/jpeg_source.glb"), "");
+  tinygltf::Model source;
+  ASSERT_TRUE(read_gltf(dir + "/jpeg_source.glb", source).ok);
+  tinygltf::Model model = source;
+  EncodeOptions o;  // --image-format keep
+  o.goal_psnr = kTarget;
+  EncodeReport report;
+  tinygltf::Image img;
+  ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", img, report));
+  const Fallback& f = report.primitives[0].fallback;
+  EXPECT_TRUE(f.images_recoded_quality > 0 || f.images_downscaled > 0);
+  EXPECT_LT(img.image.size(), jpeg.size());
+  if (sniff_image_codec(img.image) == ImageCodec::jpeg) {
+    EXPECT_LT(estimate_jpeg_quality(img.image), 95);
+  }
+  tinygltf::Model decoded;
+  ASSERT_TRUE(read_gltf(dir + "/encoded.glb", decoded).ok);
+  DecodeReport dr;
+  ASSERT_EQ(decode_model(decoded, DecodeOptions{}, dr).message, "");
+  ASSERT_EQ(write_gltf(decoded, dir + "/decoded.glb"), "");
+  tinygltf::Model shown;
+  ASSERT_TRUE(read_gltf(dir + "/decoded.glb", shown).ok);
+  const SurfaceComparison q = compare_surface(source, shown);
+  ASSERT_EQ(q.error, "");
+  EXPECT_GE(q.psnr, kTarget - 0.5);
 }
 
 // A normal map beside the colour texture. Under --image-format jpeg the

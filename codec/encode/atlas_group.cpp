@@ -427,9 +427,9 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
 // quality whose surface PSNR reaches a target, as `at_target`
 // (equal_quality_images at that target) found it, and leaves out of
 // `recode` (so as it is) a source that no quality brings there in fewer
-// bytes than it has. A group below the floor wrote its sources at the
-// closest trial's quality instead (often q95), whatever the target, and one
-// whose chosen atlas fell short of the target wrote them short of it too.
+// bytes than it has; the forms found go with them (at_target.forms). A group below the floor wrote its
+// sources at the closest trial's quality instead (often q95), whatever the target, and one whose chosen atlas
+// fell short of the target wrote them short of it too.
 void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
                        const LosslessRepacks& repacks, const EqualQualityImages& at_target, double target,
                        LossySources& recode, Fallback& why) {
@@ -450,16 +450,18 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
 }
 
 // A group that keeps explicit UVs writes its source images as the
-// comparison priced them: colour sources in the coder asked, the others
-// re-coded losslessly where that is smaller (PNGs, JPEGs' entropy code),
-// normal maps in the coder asked. Both fallbacks (below the floor, explicit
-// smaller) end so.
-Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, const LossySources& recode,
-                         const LosslessRepacks& repacks, const NormalMapsAsAsked& normals,
-                         SourceImages& sources, Fallback& why) {
+// comparison priced them: colour sources in the coder asked (or, under rate
+// control, in the form and quality that reach the target: a JPEG source
+// kept under --image-format keep too), the others re-coded losslessly where
+// that is smaller (PNGs, JPEGs' entropy code), normal maps in the coder
+// asked. Both fallbacks (below the floor, explicit smaller) end so.
+Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, bool controlled,
+                         const LossySources& recode, const SourceForms& forms, const LosslessRepacks& repacks,
+                         const NormalMapsAsAsked& normals, SourceImages& sources, Fallback& why) {
   LosslessRepacks unless_recoded = repacks;
-  if (Error e = recode_sources_as_asked(model, options, recode, sources, unless_recoded, why); e.failed())
-    return e;
+  if (controlled || options.image_format == "jpeg" || options.image_format == "webp")
+    if (Error e = recode_sources_as_asked(model, recode, forms, sources, unless_recoded, why); e.failed())
+      return e;
   write_lossless_repacks(model, unless_recoded, why);
   write_normal_maps_as_asked(model, normals, why);
   return {};
@@ -556,18 +558,21 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
                                          normals);
           e.failed())
         return e;
+      SourceForms forms;
       if (controlled) {
         const double target = std::max(aim.goal, min_psnr);
         EqualQualityImages at_target;
         if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
-                                           repacks, normals, target, at_target);
+                                           repacks, normals, target, true, at_target);
             e.failed())
           return e;
         LossySources recode;
         sources_at_target(model, lossy, repacks, at_target, target, recode, why);
         lossy = std::move(recode);
+        forms = at_target.forms;
       }
-      if (Error e = write_kept_sources(model, group_options, lossy, repacks, normals, sources, why);
+      if (Error e = write_kept_sources(model, group_options, controlled, lossy, forms, repacks, normals,
+                                       sources, why);
           e.failed())
         return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;
@@ -603,8 +608,10 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
             normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
         e.failed())
       return e;
+    // Under rate control the explicit file may have fewer texels too, as
+    // it will be written (try_downscales).
     if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
-                                       normals, built.floor_psnr(), alternative);
+                                       normals, built.floor_psnr(), controlled, alternative);
         e.failed())
       return e;
     explicit_bytes += alternative.bytes;
@@ -627,17 +634,20 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       // The comparison searched them at the atlas's quality already: only a
       // higher target needs a second search.
       LossySources recode = lossy;
+      SourceForms forms;
       if (controlled) {
         const double target = std::max(built.floor_psnr(), aim.goal);
         EqualQualityImages at_target = alternative;
         if (target > built.floor_psnr())
           if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
-                                             repacks, normals, target, at_target);
+                                             repacks, normals, target, true, at_target);
               e.failed())
             return e;
         sources_at_target(model, lossy, repacks, at_target, target, recode, why);
+        forms = at_target.forms;
       }
-      if (Error e = write_kept_sources(model, group_options, recode, repacks, normals, sources, why);
+      if (Error e = write_kept_sources(model, group_options, controlled, recode, forms, repacks, normals,
+                                       sources, why);
           e.failed())
         return e;
       if (Error e = keep_explicit(group, why); e.failed()) return e;

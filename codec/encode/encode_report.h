@@ -71,8 +71,14 @@ struct Fallback {
   double target_psnr = 0;
   uint32_t images_kept_for_target = 0;
   size_t kept_for_target_bytes = 0;
-  // Source PNGs written again by our PNG writer, smaller and to the same
-  // pixels (lossless_repacks), with their bytes before and after.
+  // ... of the images written again, these at fewer texels (the smallest
+  // file that reaches the target), some of them as PNG: the smallest scale
+  // of their sides.
+  uint32_t images_downscaled = 0, images_downscaled_png = 0;
+  double images_scale = 0;
+  // Source images written again losslessly, smaller and to the same pixels
+  // (lossless_repacks: PNGs by our PNG writer, JPEGs with optimised Huffman
+  // tables), with their bytes before and after.
   uint32_t images_repacked = 0;
   size_t repacked_bytes_before = 0, repacked_bytes_after = 0;
   // Normal maps written with the coder asked (explicit_image_mime) at this

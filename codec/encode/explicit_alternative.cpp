@@ -2,6 +2,7 @@
 #include "codec/encode/explicit_alternative.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 
 #include <OpenImageIO/imagebufalgo.h>
@@ -32,13 +33,24 @@ struct Coded {
   double psnr = 0;
 };
 
-// Source image `image` through the coder and quality of `coding`.
-Error code_as(const tinygltf::Model& model, int image, const SlotCoding& coding, SourceImages& sources,
-              std::vector<uint8_t>& bytes) {
+// `pixels` at `scale` of their size (OIIO's resize, its default filter, on
+// the stored values: what baseline 2 of the benchmark does); `pixels`
+// themselves at scale 1.
+OIIO::ImageBuf scaled(const OIIO::ImageBuf& pixels, double scale) {
+  if (scale == 1.0) return pixels;
+  const OIIO::ImageSpec& sp = pixels.spec();
+  const int w = std::max(1, int(std::lround(sp.width * scale)));
+  const int h = std::max(1, int(std::lround(sp.height * scale)));
+  return OIIO::ImageBufAlgo::resize(pixels, "", 0, OIIO::ROI(0, w, 0, h, 0, 1, 0, sp.nchannels));
+}
+
+// Source image `image`, at `scale` of its size, through the coder and quality of `coding`.
+Error code_as(const tinygltf::Model& model, int image, const SlotCoding& coding, double scale,
+              SourceImages& sources, std::vector<uint8_t>& bytes) {
   SourceImage* decoded = nullptr;
   if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
   std::string err;
-  if (!encode_image(decoded->pixels, coding.mime, coding.quality, bytes, err))
+  if (!encode_image(scaled(decoded->pixels, scale), coding.mime, coding.quality, bytes, err))
     return {ErrorCode::internal, "image " + std::to_string(image) + ": " + err};
   return {};
 }
@@ -57,13 +69,15 @@ LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group
   return lossy;
 }
 
-Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
+Error recode_sources_as_asked(tinygltf::Model& model, const LossySources& lossy, const SourceForms& forms,
                               SourceImages& sources, LosslessRepacks& repacks, Fallback& why) {
-  if (options.image_format != "jpeg" && options.image_format != "webp") return {};
   for (const auto& [image, source_coding] : lossy) {
-    const SlotCoding& coding = source_coding.second;
+    SlotCoding coding = source_coding.second;
+    const auto formed = forms.find(image);
+    const SourceForm form = formed != forms.end() ? formed->second : SourceForm{};
+    if (form.png) coding.mime = "image/png";
     std::vector<uint8_t> bytes;
-    if (Error e = code_as(model, image, coding, sources, bytes); e.failed()) return e;
+    if (Error e = code_as(model, image, coding, form.scale, sources, bytes); e.failed()) return e;
     // The coder asked can only lose quality here: where it does not save
     // bytes either, the source as it is is the better file on both counts
     // (the Fox's flat-colour 26.8 KB PNG: with it as JPEG q85 the file is
@@ -76,13 +90,18 @@ Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& optio
       why.kept_bytes += source_bytes;
       why.kept_recoded_bytes += bytes.size();
       why.kept_recoded_quality = coding.quality;
-      why.explicit_image_mime = coding.mime;
+      why.explicit_image_mime = source_coding.second.mime;
       continue;
     }
     if (repacked != repacks.end()) repacks.erase(repacked);
     replace_image_bytes(model, image, std::move(bytes), coding.mime);
-    why.images_recoded_quality = coding.quality;
-    why.explicit_image_mime = coding.mime;
+    if (form.scale < 1.0) {
+      ++why.images_downscaled;
+      why.images_downscaled_png += form.png;
+      why.images_scale = why.images_scale > 0 ? std::min(why.images_scale, form.scale) : form.scale;
+    }
+    if (!form.png) why.images_recoded_quality = std::max(why.images_recoded_quality, coding.quality);
+    why.explicit_image_mime = source_coding.second.mime;
   }
   return {};
 }
@@ -148,7 +167,7 @@ Error normal_maps_as_asked(const tinygltf::Model& model, const AtlasGroup& group
       continue;
     const SlotCoding coding = slot_coding(model, source, options);
     std::vector<uint8_t> bytes;
-    if (Error e = code_as(model, image, coding, sources, bytes); e.failed()) return e;
+    if (Error e = code_as(model, image, coding, 1.0, sources, bytes); e.failed()) return e;
     const auto repacked = repacks.find(image);
     const size_t now =
         repacked != repacks.end() ? repacked->second.size() : model.images[size_t(image)].image.size();
@@ -173,7 +192,8 @@ void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked&
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
                            const LossySources& lossy, const LosslessRepacks& repacks,
-                           const NormalMapsAsAsked& normals, double target_psnr, EqualQualityImages& out) {
+                           const NormalMapsAsAsked& normals, double target_psnr, bool try_downscales,
+                           EqualQualityImages& out) {
   out = {};
   for (int image : images) {
     const auto repacked = repacks.find(image);
@@ -195,44 +215,81 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     const bool srgb = source.slot.color_space == ColorSpace::srgb;
     const TextureSampler& before = source_sampler(source, coding, *decoded);
     const std::vector<SurfaceUvs> uvs = faces_sampling(model, plan, group, built, image);
-    auto code = [&](int q, Coded& c) -> Error {
+    // `pixels` through `mime` at quality q, as a viewer will show them.
+    auto code = [&](const OIIO::ImageBuf& pixels, const std::string& mime, int q, Coded& c) -> Error {
       std::vector<uint8_t> bytes;
       std::string why;
       OIIO::ImageBuf shown;
-      if (!encode_image(decoded->pixels, coding.mime, q, bytes, why) || !decode_image(bytes, shown, why))
+      if (!encode_image(pixels, mime, q, bytes, why) || !decode_image(bytes, shown, why))
         return {ErrorCode::internal, "image " + std::to_string(image) + ": re-encoding the source: " + why};
       TextureSampler after;
       load_texture_sampler(shown, srgb, coding.gl_wrap_s, coding.gl_wrap_t, source.slot.transform, after);
       c = {bytes.size(), surface_error(before, after, uvs, kSearchPoints).psnr()};
       return {};
     };
-    // The lowest quality that reaches the target: PSNR grows with the coder's
-    // quality, so bisect on 1..100.
-    Coded best;
-    if (Error e = code(100, best); e.failed()) return e;
-    int found = 100;
-    if (best.psnr >= target_psnr) {
+    // The lowest quality of `pixels` that reaches the target (0: none does),
+    // with its file in `best`: PSNR grows with the coder's quality, so
+    // bisect on 1..100.
+    auto search = [&](const OIIO::ImageBuf& pixels, Coded& best, int& found) -> Error {
+      found = 0;
+      if (Error e = code(pixels, coding.mime, 100, best); e.failed()) return e;
+      if (best.psnr < target_psnr) return {};
       int lo = 1, hi = 100;  // hi reaches the target
       while (lo < hi) {
         const int mid = (lo + hi) / 2;
         Coded c;
-        if (Error e = code(mid, c); e.failed()) return e;
+        if (Error e = code(pixels, coding.mime, mid, c); e.failed()) return e;
         if (c.psnr >= target_psnr)
           hi = mid, best = c;
         else
           lo = mid + 1;
       }
       found = hi;  // best holds its file: set when hi last moved, or the q100 try
+      return {};
+    };
+    Coded best;
+    int quality = 0;
+    SourceForm form;
+    bool reached = false;
+    auto consider = [&](const Coded& c, int q, SourceForm f) {
+      if (c.psnr < target_psnr || (reached && c.bytes >= best.bytes)) return;
+      best = c, quality = q, form = f, reached = true;
+    };
+    {
+      Coded c;
+      int found = 0;
+      if (Error e = search(decoded->pixels, c, found); e.failed()) return e;
+      if (found > 0) consider(c, found, {});
     }
+    // Under rate control the user asked for a quality, not a size: fewer
+    // texels may reach it in fewer bytes, as they do for the atlas (its
+    // density), through the coder asked or losslessly (sample-sphere at
+    // 40 dB: its 512^2 PNG at half size, 49 KB at 42 dB, against JPEG q95's
+    // 72 KB at 39.9 dB, whose 4:2:0 chroma loses its colour detail; bench at
+    // 689e4e2, baseline 2). Straight alpha would carry transparent texels'
+    // colour into their neighbours, so an image with alpha keeps its size.
+    const OIIO::ImageSpec& spec = decoded->pixels.spec();
+    const bool alpha = spec.alpha_channel >= 0 || spec.nchannels == 2 || spec.nchannels == 4;
+    if (try_downscales && !alpha)
+      for (double scale : kDownscales) {
+        const OIIO::ImageBuf pixels = scaled(decoded->pixels, scale);
+        Coded c;
+        int found = 0;
+        if (Error e = search(pixels, c, found); e.failed()) return e;
+        if (found > 0) consider(c, found, {scale, false});
+        if (Error e = code(pixels, "image/png", 0, c); e.failed()) return e;
+        consider(c, 0, {scale, true});
+      }
     out.searched = true;
-    if (best.psnr < target_psnr || best.bytes >= as_is) {  // the source as it is is the better file
+    if (!reached || best.bytes >= as_is) {  // the source as it is is the better file
       out.bytes += as_is;
       continue;
     }
     out.bytes += best.bytes;
     out.psnr = out.psnr > 0 ? std::min(out.psnr, best.psnr) : best.psnr;
-    out.quality = std::max(out.quality, found);
-    out.qualities[image] = found;
+    out.quality = std::max(out.quality, quality);
+    out.qualities[image] = quality;
+    if (form.scale < 1.0) out.forms[image] = form;
   }
   return {};
 }

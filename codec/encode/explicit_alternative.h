@@ -23,13 +23,27 @@
 
 namespace gltfwarp {
 
+// Under rate control, the sizes a source image kept with explicit UVs may be
+// written at besides its own, as fractions of it: what the benchmark's
+// baseline 2 tries (a user who accepts fewer texels), and what the atlas's
+// density does for the implicit map.
+inline constexpr double kDownscales[2] = {0.71, 0.5};
+// How rate control writes such an image: at `scale` of its size, through
+// the coder asked, or losslessly (png) where that is smaller.
+struct SourceForm {
+  double scale = 1.0;
+  bool png = false;
+};
+using SourceForms = std::map<int, SourceForm>;  // image -> its form (absent: its size, the coder asked)
+
 struct EqualQualityImages {
-  size_t bytes = 0;              // the replaceable source images, at equal quality
-  double psnr = 0;               // their worst surface PSNR (0: as they are, lossless)
-  int quality = 0;               // the coder's quality found (0: none re-encoded)
-  std::map<int, int> qualities;  // per re-encoded image, its quality found (quality: their largest)
-  bool searched = false;         // a lossy image was re-encoded
-  std::string mime;              // the lossy coder's mimeType, where one was searched
+  size_t bytes = 0;                 // the replaceable source images, at equal quality
+  double psnr = 0;                  // their worst surface PSNR (0: as they are, lossless)
+  int quality = 0;                  // the coder's quality found (0: none re-encoded)
+  std::map<int, int> qualities;     // per re-encoded image, its quality found (quality: their largest)
+  bool searched = false;            // a lossy image was re-encoded
+  std::string mime;                 // the lossy coder's mimeType, where one was searched
+  std::map<int, SourceForm> forms;  // per re-encoded image found smallest at fewer texels (try_downscales)
 };
 
 // The images among `images` that the group's atlas would code lossily (a
@@ -45,15 +59,17 @@ LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group
 using LosslessRepacks = std::map<int, std::vector<uint8_t>>;
 
 // A group that keeps explicit UVs, when the user asked for JPEG or WebP
-// images (--image-format), gets its lossy-coded source images in that coder
-// at the quality asked, like an atlas would have: `lossy` from
-// lossy_sources. Sets why.images_recoded_quality and explicit_image_mime.
+// images (--image-format) or a quality (rate control), gets its lossy-coded
+// source images in that coder at the quality asked or found, like an atlas
+// would have: `lossy` from lossy_sources (or sources_at_target), each in its
+// form in `forms` (rate control's choice). The caller decides that it
+// applies: with --image-format keep or png and no target, the sources stay.
+// Sets why.images_recoded_quality and explicit_image_mime.
 // An image that the coder asked does not make smaller stays as it was
 // (why.images_kept): smaller and lossless beats larger and lossy. An image
 // that `repacks` holds is compared at those bytes, and leaves `repacks` when
 // it is re-coded (write_lossless_repacks must not put it back).
-// Nothing happens with --image-format keep or png.
-Error recode_sources_as_asked(tinygltf::Model& model, const EncodeOptions& options, const LossySources& lossy,
+Error recode_sources_as_asked(tinygltf::Model& model, const LossySources& lossy, const SourceForms& forms,
                               SourceImages& sources, LosslessRepacks& repacks, Fallback& why);
 
 // The sources among `images` that re-code smaller to the same pixels:
@@ -92,9 +108,13 @@ void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked&
 // atlas would replace (replaceable_images' set); `lossy`: lossy_sources of
 // them (the caller keeps it for recode_sources_as_asked). An image that
 // `repacks` or `normals` holds counts at those bytes unless it is searched.
+// try_downscales (rate control): a searched image is also tried at each of
+// kDownscales of its size (without alpha), through the coder and as PNG,
+// and the smallest file that reaches the target wins (out.forms).
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
                            const LossySources& lossy, const LosslessRepacks& repacks,
-                           const NormalMapsAsAsked& normals, double target_psnr, EqualQualityImages& out);
+                           const NormalMapsAsAsked& normals, double target_psnr, bool try_downscales,
+                           EqualQualityImages& out);
 
 }  // namespace gltfwarp
