@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <string>
 
 namespace gltfwarp::cli {
 
@@ -14,6 +15,14 @@ std::string primitive_name(int mesh, int primitive) {
 
 // "JPEG", "WebP": the lossy coder a mimeType names, as the report prints it.
 const char* coder_name(const std::string& mime) { return mime == "image/webp" ? "WebP" : "JPEG"; }
+
+// How the equal-quality comparison re-encoded the source images: "as JPEG
+// q49", or, where rate control found PNG at fewer texels smallest for every
+// one, "as PNG at fewer texels" (quality 0).
+std::string re_encoded(const std::string& mime, int quality) {
+  if (quality <= 0) return "as PNG at fewer texels";
+  return std::string("as ") + coder_name(mime) + " q" + std::to_string(quality);
+}
 
 // Appends, when a fallback recoded the source images (--image-format
 // jpeg|webp), which coder and quality they were written with.
@@ -90,11 +99,11 @@ std::string fallback_text(const Fallback& f) {
       append_recoded(line, sizeof line, f);
       return line;
     case FallbackReason::explicit_smaller:
-      if (f.explicit_image_quality > 0) {
+      if (f.explicit_psnr > 0) {
         std::snprintf(line, sizeof line,
-                      "smaller at equal quality: %zu bytes of geometry and source images as %s q%d "
-                      "(%.1f dB), against %zu with the implicit map and a %.1f dB atlas",
-                      f.explicit_bytes, coder_name(f.explicit_image_mime), f.explicit_image_quality,
+                      "smaller at equal quality: %zu bytes of geometry and source images %s (%.1f dB), "
+                      "against %zu with the implicit map and a %.1f dB atlas",
+                      f.explicit_bytes, re_encoded(f.explicit_image_mime, f.explicit_image_quality).c_str(),
                       f.explicit_psnr, f.implicit_bytes, f.psnr);
         append_recoded(line, sizeof line, f);
       } else {
@@ -217,12 +226,13 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
           a.mip_psnr[0], a.mip_psnr[1], a.mip_psnr[2], a.mip_psnr[3], a.worst_psnr[0], a.worst_psnr[1],
           a.worst_psnr[2], a.worst_psnr[3], a.fit_gain_db, a.fit_seconds);
     if (a.explicit_bytes > 0) {
-      if (a.explicit_image_quality > 0)
+      if (a.explicit_psnr > 0)
         std::printf(
-            "  with explicit UVs at equal quality: %zu bytes (source images as %s q%d, %.1f dB); "
+            "  with explicit UVs at equal quality: %zu bytes (source images %s, %.1f dB); "
             "implicit: %zu bytes (%.1f dB), %+.1f%%\n",
-            a.explicit_bytes, coder_name(a.explicit_image_mime), a.explicit_image_quality, a.explicit_psnr,
-            a.file_bytes, a.psnr, 100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
+            a.explicit_bytes, re_encoded(a.explicit_image_mime, a.explicit_image_quality).c_str(),
+            a.explicit_psnr, a.file_bytes, a.psnr,
+            100.0 * (double(a.file_bytes) / double(a.explicit_bytes) - 1));
       else
         std::printf(
             "  with explicit UVs: %zu bytes (source images lossless); implicit: %zu bytes "

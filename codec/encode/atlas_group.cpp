@@ -427,9 +427,10 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
 // quality whose surface PSNR reaches a target, as `at_target`
 // (equal_quality_images at that target) found it, and leaves out of
 // `recode` (so as it is) a source that no quality brings there in fewer
-// bytes than it has; the forms found go with them (at_target.forms). A group below the floor wrote its
-// sources at the closest trial's quality instead (often q95), whatever the target, and one whose chosen atlas
-// fell short of the target wrote them short of it too.
+// bytes than it has; the forms found (at_target.forms) go with them. A
+// group below the floor wrote its sources at the closest trial's quality
+// instead (often q95), whatever the target, and one whose chosen atlas fell
+// short of the target wrote them short of it too.
 void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
                        const LosslessRepacks& repacks, const EqualQualityImages& at_target, double target,
                        LossySources& recode, Fallback& why) {
