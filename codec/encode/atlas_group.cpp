@@ -422,15 +422,16 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   return follow_streams(plan, group, built);
 }
 
-// Under rate control the user asked for a quality, not a coder setting: a
-// group that keeps explicit UVs writes each lossy-coded source at the lowest
-// quality whose surface PSNR reaches a target, as `at_target`
+// Under a target the user asked for a quality, not a coder setting: a
+// group that keeps explicit UVs writes each colour source in the smallest
+// form (quality, size) whose surface PSNR reaches it, as `at_target`
 // (equal_quality_images at that target) found it, and leaves out of
-// `recode` (so as it is) a source that no quality brings there in fewer
-// bytes than it has; the forms found (at_target.forms) go with them. A
-// group below the floor wrote its sources at the closest trial's quality
-// instead (often q95), whatever the target, and one whose chosen atlas fell
-// short of the target wrote them short of it too.
+// `recode` (so as it is) a source that no form brings there in fewer bytes
+// than it has, counting the lossy-coded ones (a lossless one as it was is
+// no news); the forms found (at_target.forms) go with them. A group below
+// the floor wrote its sources at the closest trial's quality instead (often
+// q95), whatever the target, and one whose chosen atlas fell short of the
+// target wrote them short of it too.
 void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
                        const LosslessRepacks& repacks, const EqualQualityImages& at_target, double target,
                        LossySources& recode, Fallback& why) {
@@ -438,6 +439,7 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
   why.target_psnr = target;
   for (const auto& [image, source_coding] : lossy) {
     const auto found = at_target.qualities.find(image);
+    if (found == at_target.qualities.end() && !source_coding.second.lossy) continue;  // lossless, as it was
     if (found == at_target.qualities.end()) {
       ++why.images_kept_for_target;
       const auto repacked = repacks.find(image);
@@ -451,16 +453,16 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
 }
 
 // A group that keeps explicit UVs writes its source images as the
-// comparison priced them: colour sources in the coder asked (or, under rate
-// control, in the form and quality that reach the target: a JPEG source
-// kept under --image-format keep too), the others re-coded losslessly where
+// comparison priced them: colour sources in the coder asked (or, under a
+// target, in the form and quality that reach it: a source kept under
+// --image-format keep too, PNG or JPEG), the others re-coded losslessly where
 // that is smaller (PNGs, JPEGs' entropy code), normal maps in the coder
 // asked. Both fallbacks (below the floor, explicit smaller) end so.
-Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, bool controlled,
+Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, bool targeted,
                          const LossySources& recode, const SourceForms& forms, const LosslessRepacks& repacks,
                          const NormalMapsAsAsked& normals, SourceImages& sources, Fallback& why) {
   LosslessRepacks unless_recoded = repacks;
-  if (controlled || options.image_format == "jpeg" || options.image_format == "webp")
+  if (targeted || options.image_format == "jpeg" || options.image_format == "webp")
     if (Error e = recode_sources_as_asked(model, recode, forms, sources, unless_recoded, why); e.failed())
       return e;
   write_lossless_repacks(model, unless_recoded, why);
@@ -531,6 +533,10 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     // control chose, where it ran.
     EncodeOptions group_options = options;
     const bool controlled = rate_controlled(model, group, options);
+    // A target and no coder quality: a group that keeps explicit UVs writes
+    // its colour sources in the smallest form that reaches it, fewer texels
+    // included, with a lossless coder too (explicit_alternative.h).
+    const bool targeted = options.goal_psnr > 0 && options.image_quality <= 0;
     if (controlled) {
       if (Error e = choose_image_quality(model, plan, group, options, sources, factors, min_psnr, aim, built,
                                          group_options.image_quality);
@@ -560,19 +566,20 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
           e.failed())
         return e;
       SourceForms forms;
-      if (controlled) {
+      if (targeted) {
         const double target = std::max(aim.goal, min_psnr);
+        const LossySources searched = targeted_sources(model, group, group_options, replaceable);
         EqualQualityImages at_target;
-        if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
+        if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched), searched,
                                            repacks, normals, target, true, at_target);
             e.failed())
           return e;
         LossySources recode;
-        sources_at_target(model, lossy, repacks, at_target, target, recode, why);
+        sources_at_target(model, searched, repacks, at_target, target, recode, why);
         lossy = std::move(recode);
         forms = at_target.forms;
       }
-      if (Error e = write_kept_sources(model, group_options, controlled, lossy, forms, repacks, normals,
+      if (Error e = write_kept_sources(model, group_options, targeted, lossy, forms, repacks, normals,
                                        sources, why);
           e.failed())
         return e;
@@ -609,10 +616,12 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
             normal_maps_as_asked(model, group, group_options, replaceable, lossy, sources, repacks, normals);
         e.failed())
       return e;
-    // Under rate control the explicit file may have fewer texels too, as
-    // it will be written (try_downscales).
-    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, lossy, repacks,
-                                       normals, built.floor_psnr(), controlled, alternative);
+    // Under a target the explicit file may have fewer texels too, as it
+    // will be written (try_downscales), PNG sources included.
+    const LossySources searched =
+        targeted ? targeted_sources(model, group, group_options, replaceable) : lossy;
+    if (Error e = equal_quality_images(model, plan, group, built, sources, replaceable, searched, repacks,
+                                       normals, built.floor_psnr(), targeted, alternative);
         e.failed())
       return e;
     explicit_bytes += alternative.bytes;
@@ -636,18 +645,18 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       // higher target needs a second search.
       LossySources recode = lossy;
       SourceForms forms;
-      if (controlled) {
+      if (targeted) {
         const double target = std::max(built.floor_psnr(), aim.goal);
         EqualQualityImages at_target = alternative;
         if (target > built.floor_psnr())
-          if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(lossy), lossy,
-                                             repacks, normals, target, true, at_target);
+          if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched),
+                                             searched, repacks, normals, target, true, at_target);
               e.failed())
             return e;
-        sources_at_target(model, lossy, repacks, at_target, target, recode, why);
+        sources_at_target(model, searched, repacks, at_target, target, recode, why);
         forms = at_target.forms;
       }
-      if (Error e = write_kept_sources(model, group_options, controlled, recode, forms, repacks, normals,
+      if (Error e = write_kept_sources(model, group_options, targeted, recode, forms, repacks, normals,
                                        sources, why);
           e.failed())
         return e;

@@ -57,16 +57,32 @@ Error code_as(const tinygltf::Model& model, int image, const SlotCoding& coding,
 
 }  // namespace
 
+namespace {
+
+// The images among `images` shown through a colour slot that `keep` takes,
+// each with the first such slot (it decides the coding and sampler).
+template <class Keep>
+LossySources colour_slots(const tinygltf::Model& model, const AtlasGroup& group, const EncodeOptions& options,
+                          const std::set<int>& images, Keep keep) {
+  LossySources found;
+  for (const SlotSource& source : slot_sources(model, group)) {
+    if (!images.count(source.image) || found.count(source.image) || source.slot.normal_map) continue;
+    if (SlotCoding coding = slot_coding(model, source, options); keep(coding))
+      found.emplace(source.image, std::pair{source, std::move(coding)});
+  }
+  return found;
+}
+
+}  // namespace
+
 LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
                            const EncodeOptions& options, const std::set<int>& images) {
-  // The first colour slot through which each image is shown decides its coding and sampler.
-  LossySources lossy;
-  for (const SlotSource& source : slot_sources(model, group)) {
-    if (!images.count(source.image) || lossy.count(source.image)) continue;
-    if (SlotCoding coding = slot_coding(model, source, options); coding.lossy)
-      lossy.emplace(source.image, std::pair{source, std::move(coding)});
-  }
-  return lossy;
+  return colour_slots(model, group, options, images, [](const SlotCoding& c) { return c.lossy; });
+}
+
+LossySources targeted_sources(const tinygltf::Model& model, const AtlasGroup& group,
+                              const EncodeOptions& options, const std::set<int>& images) {
+  return colour_slots(model, group, options, images, [](const SlotCoding&) { return true; });
 }
 
 Error recode_sources_as_asked(tinygltf::Model& model, const LossySources& lossy, const SourceForms& forms,
@@ -209,9 +225,14 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     // Named references, not a structured binding: lambdas below capture them.
     const SlotSource& source = it->second.first;
     const SlotCoding& coding = it->second.second;
+    // A lossless slot (targeted_sources' PNGs) can only save bytes with fewer texels.
+    if (!coding.lossy && !try_downscales) {
+      out.bytes += as_is;
+      continue;
+    }
     SourceImage* decoded = nullptr;
     if (Error e = decode_source(model, image, sources, decoded); e.failed()) return e;
-    out.mime = coding.mime;
+    if (coding.lossy) out.mime = coding.mime;
     const bool srgb = source.slot.color_space == ColorSpace::srgb;
     const TextureSampler& before = source_sampler(source, coding, *decoded);
     const std::vector<SurfaceUvs> uvs = faces_sampling(model, plan, group, built, image);
@@ -255,7 +276,7 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       if (c.psnr < target_psnr || (reached && c.bytes >= best.bytes)) return;
       best = c, quality = q, form = f, reached = true;
     };
-    {
+    if (coding.lossy) {
       Coded c;
       int found = 0;
       if (Error e = search(decoded->pixels, c, found); e.failed()) return e;
@@ -275,8 +296,10 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
         const OIIO::ImageBuf pixels = scaled(decoded->pixels, scale);
         Coded c;
         int found = 0;
-        if (Error e = search(pixels, c, found); e.failed()) return e;
-        if (found > 0) consider(c, found, {scale, false});
+        if (coding.lossy) {
+          if (Error e = search(pixels, c, found); e.failed()) return e;
+          if (found > 0) consider(c, found, {scale, false});
+        }
         if (Error e = code(pixels, "image/png", 0, c); e.failed()) return e;
         consider(c, 0, {scale, true});
       }

@@ -51,6 +51,11 @@ struct EqualQualityImages {
 using LossySources = std::map<int, std::pair<SlotSource, SlotCoding>>;
 LossySources lossy_sources(const tinygltf::Model& model, const AtlasGroup& group,
                            const EncodeOptions& options, const std::set<int>& images);
+// Every colour-slot image among `images`, lossy or lossless, the same way:
+// under a target (--target-psnr, no --image-quality) each may be written at
+// fewer texels, PNG ones too (equal_quality_images' try_downscales).
+LossySources targeted_sources(const tinygltf::Model& model, const AtlasGroup& group,
+                              const EncodeOptions& options, const std::set<int>& images);
 
 // Source images re-coded without changing a pixel, where that is smaller:
 // image -> its new bytes (lossless_repacks). A group that keeps explicit UVs
@@ -108,9 +113,11 @@ void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked&
 // atlas would replace (replaceable_images' set); `lossy`: lossy_sources of
 // them (the caller keeps it for recode_sources_as_asked). An image that
 // `repacks` or `normals` holds counts at those bytes unless it is searched.
-// try_downscales (rate control): a searched image is also tried at each of
+// try_downscales (a target): a searched image is also tried at each of
 // kDownscales of its size (without alpha), through the coder and as PNG,
-// and the smallest file that reaches the target wins (out.forms).
+// and the smallest file that reaches the target wins (out.forms). `lossy`
+// may then hold lossless (PNG) slots too (targeted_sources): those are
+// tried at fewer texels only.
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                            const GroupAtlas& built, SourceImages& sources, const std::set<int>& images,
                            const LossySources& lossy, const LosslessRepacks& repacks,
