@@ -37,13 +37,13 @@ struct SourceForm {
 using SourceForms = std::map<int, SourceForm>;  // image -> its form (absent: its size, the coder asked)
 
 struct EqualQualityImages {
-  size_t bytes = 0;                 // the replaceable source images, at equal quality
-  double psnr = 0;                  // their worst surface PSNR (0: as they are, lossless)
-  int quality = 0;                  // the coder's quality found (0: none re-encoded)
-  std::map<int, int> qualities;     // per re-encoded image, its quality found (quality: their largest)
-  bool searched = false;            // a lossy image was re-encoded
-  std::string mime;                 // the lossy coder's mimeType, where one was searched
-  std::map<int, SourceForm> forms;  // per re-encoded image found smallest at fewer texels (try_downscales)
+  size_t bytes = 0;              // the replaceable source images, at equal quality
+  double psnr = 0;               // their worst surface PSNR (0: as they are, lossless)
+  int quality = 0;               // the coder's quality found (0: none re-encoded)
+  std::map<int, int> qualities;  // per re-encoded image, its quality found (quality: their largest)
+  bool searched = false;         // a lossy image was re-encoded
+  std::string mime;              // the lossy coder's mimeType, where one was searched
+  SourceForms forms;             // per re-encoded image found smallest at fewer texels (try_downscales)
 };
 
 // The images among `images` that the group's atlas would code lossily (a
