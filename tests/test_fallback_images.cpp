@@ -15,9 +15,11 @@
 #include "codec/encode/encoder.h"
 #include "codec/encode/explicit_alternative.h"
 #include "codec/encode/texture/image_io.h"
+#include "codec/encode/texture/mip_quality.h"
 #include "codec/encode/texture/surface_compare.h"
 #include "format/gltf/gltf_io.h"
 #include "format/gltf/gltf_materials.h"
+#include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
 #include "support/noise_image.h"
 #include "tests/support/testing/sample_model.h"
@@ -119,13 +121,15 @@ TEST(FallbackImages, AGlbSourceGetsTheBytesItsMimeTypeNames) {
 // Fewer texels may be that form, as the atlas's density trades texels for
 // the implicit map and baseline 2 of the benchmark does for explicit UVs.
 // This sphere's colour detail does not survive JPEG's 4:2:0 chroma, so at
-// 40 dB its texture at half or 0.71x size, as PNG, is the smallest file,
-// its one image at the scale the report names.
+// 39 dB its texture at half size, as PNG, is the smallest file that shows
+// what the source shows at every MIP level, its one image at the scale the
+// report names (at 0.71x its levels differ: see the next test). At 40 dB the
+// atlas reaches 40.1 under keep, which the half size misses by 0.02 dB.
 // With a lossless coder (--image-format keep on this PNG) a target given
 // asks the same: fewer texels, as PNG.
 TEST(FallbackImages, RateControlWritesSourcesThatReachTheTarget) {
   for (const std::string format : {"jpeg", "keep"})
-    for (const double target : {40.0, 48.0}) {
+    for (const double target : {39.0, 48.0}) {
       SCOPED_TRACE(format + " " + std::to_string(target));
       const std::string dir =
           test::scratch_dir("fallback-images-target-" + format + std::to_string(int(target)));
@@ -139,7 +143,7 @@ TEST(FallbackImages, RateControlWritesSourcesThatReachTheTarget) {
       tinygltf::Image img;
       ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", img, report));
       const Fallback& f = report.primitives[0].fallback;
-      if (target == 40.0) {
+      if (target == 39.0) {
         ASSERT_EQ(f.images_downscaled, 1u);
         EXPECT_TRUE(f.images_scale == kDownscales[0] || f.images_scale == kDownscales[1]) << f.images_scale;
         EXPECT_LT(img.image.size(), source.images[0].image.size());
@@ -196,6 +200,60 @@ TEST(FallbackImages, RateControlWritesAKeptJpegSourceAtTheTarget) {
   double psnr = 0;
   ASSERT_NO_FATAL_FAILURE(decoded_surface_psnr(source, dir, psnr));
   EXPECT_GE(psnr, kTarget - 0.5);
+}
+
+// The faces of `model`'s first primitive, each with its TEXCOORD_0 on both
+// sides: a written image compared with its source over the source's UVs.
+void source_faces(const tinygltf::Model& model, std::vector<SurfaceUvs>& out) {
+  PrimitiveGeometry geom;
+  ASSERT_EQ(read_primitive(model, model.meshes[0].primitives[0], geom), "");
+  const VertexAttribute* uv = geom.find("TEXCOORD_0");
+  ASSERT_NE(uv, nullptr);
+  std::vector<float> corners;
+  for (uint32_t v : geom.triangles) corners.push_back(uv->get(v, 0)), corners.push_back(uv->get(v, 1));
+  out = {{corners, corners, {}}};
+}
+
+// Fewer texels must not cost a viewer more than the target at the MIP
+// levels it samples when it minifies, measured against the source's own
+// chain at the same screen footprint. A 0.71x image reaches 47 dB here by
+// the full-resolution measure but 25.2 dB at level 2 (its levels are not the
+// source's levels blended), and rate control once wrote it for targets of 44
+// and 46 dB; the truck's 40 dB point then rendered at 30.4 dB against the
+// 36.7 dB of its implicit file (bench at 73d4146).
+TEST(FallbackImages, FewerTexelsShowWhatTheSourceShowsWhenMinified) {
+  for (const std::string format : {"keep", "jpeg"})
+    for (const double target : {40.0, 44.0, 46.0}) {
+      SCOPED_TRACE(format + " " + std::to_string(target));
+      const std::string dir =
+          test::scratch_dir("fallback-images-minified-" + format + std::to_string(int(target)));
+      tinygltf::Model source;
+      ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, source));
+      tinygltf::Model model = source;
+      EncodeOptions o;
+      o.image_format = format;
+      o.goal_psnr = target;
+      EncodeReport report;
+      tinygltf::Image img;
+      ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", img, report));
+      OIIO::ImageBuf before, after;
+      std::string err;
+      ASSERT_TRUE(decode_image(source.images[0].image, before, err)) << err;
+      ASSERT_TRUE(decode_image(img.image, after, err)) << err;
+      if (after.spec().width == before.spec().width) continue;  // its own size: levels as the source's
+      EXPECT_GT(report.primitives[0].fallback.images_downscaled, 0u);
+      std::vector<SurfaceUvs> faces;
+      ASSERT_NO_FATAL_FAILURE(source_faces(source, faces));
+      TextureSampler s, a;
+      load_texture_sampler(before, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, s);
+      load_texture_sampler(after, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, a);
+      const MipQuality q = mip_surface_error(mip_chain(s, kMipLevels + 2), a, faces);
+      for (int l = 0; l < kMipLevels; ++l) {
+        ASSERT_GT(q.level[l].values, 0u);
+        EXPECT_GE(q.level[l].psnr(), target - 0.5)
+            << "level " << l << ", " << after.spec().width << " texels wide";
+      }
+    }
 }
 
 // A normal map beside the colour texture. Under --image-format jpeg the

@@ -115,7 +115,9 @@ void write_normal_maps_as_asked(tinygltf::Model& model, const NormalMapsAsAsked&
 // `repacks` or `normals` holds counts at those bytes unless it is searched.
 // try_downscales (a target): a searched image is also tried at each of
 // kDownscales of its size (without alpha), through the coder and as PNG,
-// and the smallest file that reaches the target wins (out.forms). `lossy`
+// and the smallest file that reaches the target wins (out.forms). A form
+// with fewer texels must reach it at MIP levels 0..3 too, against the
+// source's own chain (mip_quality.h): what a minifying viewer shows. `lossy`
 // may then hold lossless (PNG) slots too (targeted_sources): those are
 // tried at fewer texels only.
 Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,

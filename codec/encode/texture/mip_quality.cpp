@@ -113,7 +113,9 @@ MipQuality mip_surface_error(std::span<const TextureSampler> schain, const Textu
   const auto& sspec = source.pixels.spec();
   const auto& t = source.transform;
   const double src_texels = double(sspec.width) * sspec.height * std::abs(t[0] * t[4] - t[1] * t[3]);
-  const double atlas_texels = double(atlas.pixels.spec().width) * atlas.pixels.spec().height;
+  const auto& at = atlas.transform;  // identity for an atlas page; a source's own for a source's form
+  const double atlas_texels = double(atlas.pixels.spec().width) * atlas.pixels.spec().height *
+                              std::abs(at[0] * at[4] - at[1] * at[3]);
   const int atlas_side = std::max(atlas.pixels.spec().width, atlas.pixels.spec().height);
   const std::vector<TextureSampler> achain =
       mip_chain(atlas, 1 + int(std::ceil(std::log2(std::max(1, atlas_side)))));

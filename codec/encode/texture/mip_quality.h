@@ -3,13 +3,15 @@
 // gutter that runs out at a coarser level cannot hide in one full-resolution
 // average.
 //
-// Level L is a screen footprint of 2^L texels of the finer of the two grids
-// on each face. A viewer reads each texture's MIP chain (box-filtered 2x2,
-// as glGenerateMipmap builds it, in linear light for sRGB) trilinearly at
-// the LOD of that footprint: the source at L + max(0, log2 rho), the atlas
-// at L + max(0, -log2 rho), rho being the face's source texels per atlas
-// texel (Williams, "Pyramidal Parametrics", SIGGRAPH 1983; the GL spec's
-// LOD rule). So level 0 is the plain (magnified) surface PSNR. Both are
+// Level L is a screen footprint of 2^L texels of the coarser of the two
+// grids on each face. A viewer reads each texture's MIP chain (box-filtered
+// 2x2, as glGenerateMipmap builds a power-of-two one, in linear light for
+// sRGB) trilinearly at the LOD of that footprint: the source at
+// L + max(0, log2 rho), the atlas at L + max(0, -log2 rho), rho being the
+// face's source texels per atlas texel along a side (Williams, "Pyramidal
+// Parametrics", SIGGRAPH 1983; the GL spec's LOD rule). So level 0 is the
+// coarser grid at full resolution and the finer one minified to it: where
+// the two have the same density, the plain (magnified) surface PSNR. Both are
 // compared at the points surface_error uses. The source's chain is built
 // from the source with the texels no face reaches pull-push filled, so its
 // own chart bleed is not counted against the atlas (texel_reach.h).
@@ -43,7 +45,10 @@ struct MipQuality {
 
 // The MIP chain of a sampler, level 0 first (`s` itself: move a temporary
 // in, as a 4096² float level 0 is 256 MB), down to 1x1 or `levels` levels:
-// box-filtered 2x2 means of the linear texels.
+// box-filtered 2x2 means of the linear texels. An odd side drops its last
+// texel, as a plain box generator does; GPUs differ there (a linear blit
+// keeps the content in place but point-samples where its phase is whole),
+// and no one rule is every viewer's.
 std::vector<TextureSampler> mip_chain(TextureSampler s, int levels);
 
 // The reference a viewer's MIP chain of the source gives: the source with
