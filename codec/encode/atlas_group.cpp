@@ -422,22 +422,42 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   return follow_streams(plan, group, built);
 }
 
+// The lossy-coded sources (lossy_sources' keys).
+std::set<int> images_of(const LossySources& lossy) {
+  std::set<int> images;
+  for (const auto& entry : lossy) images.insert(entry.first);
+  return images;
+}
+
 // Under a target the user asked for a quality, not a coder setting: a
-// group that keeps explicit UVs writes each colour source in the smallest
-// form (quality, size) whose surface PSNR reaches it, as `at_target`
-// (equal_quality_images at that target) found it, and leaves out of
+// group that keeps explicit UVs writes each colour source among
+// `replaceable` in the smallest form (quality, size) whose surface PSNR
+// reaches it, as equal_quality_images at that target finds it (`priced`,
+// where the caller searched at that target already), and leaves out of
 // `recode` (so as it is) a source that no form brings there in fewer bytes
 // than it has, counting the lossy-coded ones (a lossless one as it was is
-// no news); the forms found (at_target.forms) go with them. A group below
-// the floor wrote its sources at the closest trial's quality instead (often
-// q95), whatever the target, and one whose chosen atlas fell short of the
-// target wrote them short of it too.
-void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
-                       const LosslessRepacks& repacks, const EqualQualityImages& at_target, double target,
-                       LossySources& recode, Fallback& why) {
+// no news); `forms` gets the forms found. A group below the floor wrote its
+// sources at the closest trial's quality instead (often q95), whatever the
+// target, and one whose chosen atlas fell short of the target wrote them
+// short of it too. Both fallbacks (below the floor, explicit smaller) come here.
+Error sources_for_target(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
+                         const GroupAtlas& built, const EncodeOptions& options,
+                         const std::set<int>& replaceable, const LosslessRepacks& repacks,
+                         const NormalMapsAsAsked& normals, double target, const EqualQualityImages* priced,
+                         SourceImages& sources, LossySources& recode, SourceForms& forms, Fallback& why) {
+  const LossySources searched = targeted_sources(model, group, options, replaceable);
+  EqualQualityImages found_at_target;
+  if (!priced) {
+    if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched), searched,
+                                       repacks, normals, target, true, found_at_target);
+        e.failed())
+      return e;
+  }
+  const EqualQualityImages& at_target = priced ? *priced : found_at_target;
   recode.clear();
+  forms = at_target.forms;
   why.target_psnr = target;
-  for (const auto& [image, source_coding] : lossy) {
+  for (const auto& [image, source_coding] : searched) {
     const auto found = at_target.qualities.find(image);
     if (found == at_target.qualities.end() && !source_coding.second.lossy) continue;  // lossless, as it was
     if (found == at_target.qualities.end()) {
@@ -450,6 +470,7 @@ void sources_at_target(const tinygltf::Model& model, const LossySources& lossy,
     }
     recode.emplace(image, source_coding).first->second.second.quality = found->second;
   }
+  return {};
 }
 
 // A group that keeps explicit UVs writes its source images as the
@@ -468,13 +489,6 @@ Error write_kept_sources(tinygltf::Model& model, const EncodeOptions& options, b
   write_lossless_repacks(model, unless_recoded, why);
   write_normal_maps_as_asked(model, normals, why);
   return {};
-}
-
-// The lossy-coded sources (lossy_sources' keys).
-std::set<int> images_of(const LossySources& lossy) {
-  std::set<int> images;
-  for (const auto& entry : lossy) images.insert(entry.first);
-  return images;
 }
 
 // What the group's density aims at (EncodeOptions::goal_psnr): by default
@@ -566,19 +580,12 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
           e.failed())
         return e;
       SourceForms forms;
-      if (targeted) {
-        const double target = std::max(aim.goal, min_psnr);
-        const LossySources searched = targeted_sources(model, group, group_options, replaceable);
-        EqualQualityImages at_target;
-        if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched), searched,
-                                           repacks, normals, target, true, at_target);
+      if (targeted)
+        if (Error e =
+                sources_for_target(model, plan, group, built, group_options, replaceable, repacks, normals,
+                                   std::max(aim.goal, min_psnr), nullptr, sources, lossy, forms, why);
             e.failed())
           return e;
-        LossySources recode;
-        sources_at_target(model, searched, repacks, at_target, target, recode, why);
-        lossy = std::move(recode);
-        forms = at_target.forms;
-      }
       if (Error e = write_kept_sources(model, group_options, targeted, lossy, forms, repacks, normals,
                                        sources, why);
           e.failed())
@@ -647,14 +654,11 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       SourceForms forms;
       if (targeted) {
         const double target = std::max(built.floor_psnr(), aim.goal);
-        EqualQualityImages at_target = alternative;
-        if (target > built.floor_psnr())
-          if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched),
-                                             searched, repacks, normals, target, true, at_target);
-              e.failed())
-            return e;
-        sources_at_target(model, searched, repacks, at_target, target, recode, why);
-        forms = at_target.forms;
+        const EqualQualityImages* priced = target > built.floor_psnr() ? nullptr : &alternative;
+        if (Error e = sources_for_target(model, plan, group, built, group_options, replaceable, repacks,
+                                         normals, target, priced, sources, recode, forms, why);
+            e.failed())
+          return e;
       }
       if (Error e = write_kept_sources(model, group_options, targeted, recode, forms, repacks, normals,
                                        sources, why);

@@ -339,7 +339,6 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
           if (Error e = shows_as_source(pixels, "image/png", 0, holds); e.failed()) return e;
         if (holds) consider(c, 0, {scale, true});
       }
-    out.searched = true;
     if (!reached || best.bytes >= as_is) {  // the source as it is is the better file
       out.bytes += as_is;
       continue;

@@ -41,7 +41,6 @@ struct EqualQualityImages {
   double psnr = 0;               // their worst surface PSNR (0: as they are, lossless)
   int quality = 0;               // the coder's quality found (0: none re-encoded)
   std::map<int, int> qualities;  // per re-encoded image, its quality found (quality: their largest)
-  bool searched = false;         // a lossy image was re-encoded
   std::string mime;              // the lossy coder's mimeType, where one was searched
   SourceForms forms;             // per re-encoded image found smallest at fewer texels (try_downscales)
 };
