@@ -63,6 +63,18 @@ void encode_to_glb(tinygltf::Model& model, const EncodeOptions& o, const std::st
   EXPECT_EQ(sniff_image_codec(written.image), codec_of_mime(written.mimeType)) << written.mimeType;
 }
 
+// glb_sphere in `dir` as `source`, encoded under rate control (`target`,
+// no coder quality) with --image-format `format` into `dir`/encoded.glb.
+void sphere_at_target(const std::string& dir, const std::string& format, double target,
+                      tinygltf::Model& source, EncodeReport& report, tinygltf::Image& written) {
+  ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, source));
+  tinygltf::Model model = source;
+  EncodeOptions o;
+  o.image_format = format;
+  o.goal_psnr = target;
+  ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", written, report));
+}
+
 // The surface PSNR of `dir`/encoded.glb, decoded and written as a viewer
 // reads it (its images back in place), against `source`.
 void decoded_surface_psnr(const tinygltf::Model& source, const std::string& dir, double& psnr) {
@@ -134,14 +146,9 @@ TEST(FallbackImages, RateControlWritesSourcesThatReachTheTarget) {
       const std::string dir =
           test::scratch_dir("fallback-images-target-" + format + std::to_string(int(target)));
       tinygltf::Model source;
-      ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, source));
-      tinygltf::Model model = source;
-      EncodeOptions o;
-      o.image_format = format;
-      o.goal_psnr = target;
       EncodeReport report;
       tinygltf::Image img;
-      ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", img, report));
+      ASSERT_NO_FATAL_FAILURE(sphere_at_target(dir, format, target, source, report, img));
       const Fallback& f = report.primitives[0].fallback;
       if (target == 39.0) {
         ASSERT_EQ(f.images_downscaled, 1u);
@@ -228,14 +235,9 @@ TEST(FallbackImages, FewerTexelsShowWhatTheSourceShowsWhenMinified) {
       const std::string dir =
           test::scratch_dir("fallback-images-minified-" + format + std::to_string(int(target)));
       tinygltf::Model source;
-      ASSERT_NO_FATAL_FAILURE(glb_sphere(dir, source));
-      tinygltf::Model model = source;
-      EncodeOptions o;
-      o.image_format = format;
-      o.goal_psnr = target;
       EncodeReport report;
       tinygltf::Image img;
-      ASSERT_NO_FATAL_FAILURE(encode_to_glb(model, o, dir + "/encoded.glb", img, report));
+      ASSERT_NO_FATAL_FAILURE(sphere_at_target(dir, format, target, source, report, img));
       OIIO::ImageBuf before, after;
       std::string err;
       ASSERT_TRUE(decode_image(source.images[0].image, before, err)) << err;
