@@ -43,6 +43,18 @@ def pareto_front(points):
     return out
 
 
+def widest_front_gap(points):
+    """(low, high) PSNR of the two neighbours on the Pareto front farthest apart in PSNR, or None with fewer
+    than two front points. Between them the curve has no file: a fit there (and a BD-rate that integrates over
+    it) reads the interpolation, not something a user can have."""
+    front = pareto_front(points)
+    gaps = [(b[1] - a[1], a[1], b[1]) for a, b in zip(front, front[1:])]
+    if not gaps:
+        return None
+    _, low, high = max(gaps)
+    return (low, high)
+
+
 def _slopes(x, y):
     """Fritsch-Carlson derivatives at the knots (scipy's PCHIP rule)."""
     n = len(x)

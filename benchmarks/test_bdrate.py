@@ -13,6 +13,12 @@ A = [(12_000, 31.0), (18_500, 34.2), (26_000, 36.9), (41_000, 39.8), (70_000, 42
 
 
 class BdRate(unittest.TestCase):
+    def test_widest_front_gap_is_between_front_neighbours(self):
+        # (30_000, 35.0) is beaten by (26_000, 36.9): not on the front, so it cannot close a gap.
+        self.assertEqual(bdrate.widest_front_gap(A + [(30_000, 35.0)]), (42.5, 46.0))
+        self.assertEqual(bdrate.widest_front_gap(A + [(300_000, 60.0)]), (46.0, 60.0))
+        self.assertIsNone(bdrate.widest_front_gap(A[:1]))
+
     def test_every_rate_times_0_8_is_minus_20_percent(self):
         b = [(r * 0.8, p) for r, p in A]
         res = bdrate.bd_rate(A, b)
