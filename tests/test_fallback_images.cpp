@@ -209,16 +209,16 @@ TEST(FallbackImages, RateControlWritesAKeptJpegSourceAtTheTarget) {
   EXPECT_GE(psnr, kTarget - 0.5);
 }
 
-// The faces of `model`'s first primitive, each with its TEXCOORD_0 on both
-// sides: a written image compared with its source over the source's UVs.
-void source_faces(const tinygltf::Model& model, std::vector<SurfaceUvs>& out) {
+// The TEXCOORD_0 of `model`'s first primitive, 6 floats per face: a written
+// image compared with its source over the source's UVs. SurfaceUvs only
+// views its arrays, so the caller keeps these.
+void source_face_uvs(const tinygltf::Model& model, std::vector<float>& corners) {
   PrimitiveGeometry geom;
   ASSERT_EQ(read_primitive(model, model.meshes[0].primitives[0], geom), "");
   const VertexAttribute* uv = geom.find("TEXCOORD_0");
   ASSERT_NE(uv, nullptr);
-  std::vector<float> corners;
+  corners.clear();
   for (uint32_t v : geom.triangles) corners.push_back(uv->get(v, 0)), corners.push_back(uv->get(v, 1));
-  out = {{corners, corners, {}}};
 }
 
 // Fewer texels must not cost a viewer more than the target at the MIP
@@ -244,8 +244,9 @@ TEST(FallbackImages, FewerTexelsShowWhatTheSourceShowsWhenMinified) {
       ASSERT_TRUE(decode_image(img.image, after, err)) << err;
       if (after.spec().width == before.spec().width) continue;  // its own size: levels as the source's
       EXPECT_GT(report.primitives[0].fallback.images_downscaled, 0u);
-      std::vector<SurfaceUvs> faces;
-      ASSERT_NO_FATAL_FAILURE(source_faces(source, faces));
+      std::vector<float> corners;
+      ASSERT_NO_FATAL_FAILURE(source_face_uvs(source, corners));
+      const SurfaceUvs faces[] = {{corners, corners, {}}};
       TextureSampler s, a;
       load_texture_sampler(before, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, s);
       load_texture_sampler(after, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, a);
