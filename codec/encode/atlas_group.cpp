@@ -430,8 +430,8 @@ std::set<int> images_of(const LossySources& lossy) {
 }
 
 // Under a target the user asked for a quality, not a coder setting: a
-// group that keeps explicit UVs writes each colour source among
-// `replaceable` in the smallest form (quality, size) whose surface PSNR
+// group that keeps explicit UVs writes each colour source of `searched`
+// (targeted_sources) in the smallest form (quality, size) whose surface PSNR
 // reaches it, as equal_quality_images at that target finds it (`priced`,
 // where the caller searched at that target already), and leaves out of
 // `recode` (so as it is) a source that no form brings there in fewer bytes
@@ -441,11 +441,10 @@ std::set<int> images_of(const LossySources& lossy) {
 // target, and one whose chosen atlas fell short of the target wrote them
 // short of it too. Both fallbacks (below the floor, explicit smaller) come here.
 Error sources_for_target(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                         const GroupAtlas& built, const EncodeOptions& options,
-                         const std::set<int>& replaceable, const LosslessRepacks& repacks,
-                         const NormalMapsAsAsked& normals, double target, const EqualQualityImages* priced,
-                         SourceImages& sources, LossySources& recode, SourceForms& forms, Fallback& why) {
-  const LossySources searched = targeted_sources(model, group, options, replaceable);
+                         const GroupAtlas& built, const LossySources& searched,
+                         const LosslessRepacks& repacks, const NormalMapsAsAsked& normals, double target,
+                         const EqualQualityImages* priced, SourceImages& sources, LossySources& recode,
+                         SourceForms& forms, Fallback& why) {
   EqualQualityImages found_at_target;
   if (!priced) {
     if (Error e = equal_quality_images(model, plan, group, built, sources, images_of(searched), searched,
@@ -581,9 +580,9 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
         return e;
       SourceForms forms;
       if (targeted)
-        if (Error e =
-                sources_for_target(model, plan, group, built, group_options, replaceable, repacks, normals,
-                                   std::max(aim.goal, min_psnr), nullptr, sources, lossy, forms, why);
+        if (Error e = sources_for_target(
+                model, plan, group, built, targeted_sources(model, group, group_options, replaceable),
+                repacks, normals, std::max(aim.goal, min_psnr), nullptr, sources, lossy, forms, why);
             e.failed())
           return e;
       if (Error e = write_kept_sources(model, group_options, targeted, lossy, forms, repacks, normals,
@@ -655,8 +654,8 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       if (targeted) {
         const double target = std::max(built.floor_psnr(), aim.goal);
         const EqualQualityImages* priced = target > built.floor_psnr() ? nullptr : &alternative;
-        if (Error e = sources_for_target(model, plan, group, built, group_options, replaceable, repacks,
-                                         normals, target, priced, sources, recode, forms, why);
+        if (Error e = sources_for_target(model, plan, group, built, searched, repacks, normals, target,
+                                         priced, sources, recode, forms, why);
             e.failed())
           return e;
       }

@@ -312,13 +312,14 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
     // target it rendered at 30.4 dB against the 36.7 dB of its implicit
     // file (bench at 73d4146). So a form that would win is coded again and
     // measured there.
-    auto shows_as_source = [&](const OIIO::ImageBuf& pixels, const std::string& mime, int q,
-                               bool& holds) -> Error {
-      Coded c;
-      if (Error e = code(pixels, mime, q, c, true); e.failed()) return e;
-      holds = true;
+    auto consider_fewer_texels = [&](const OIIO::ImageBuf& pixels, const std::string& mime, const Coded& c,
+                                     int q, SourceForm f) -> Error {
+      if (!wins(c)) return {};
+      Coded again;
+      if (Error e = code(pixels, mime, q, again, true); e.failed()) return e;
       for (int l = 0; l < kMipLevels; ++l)
-        if (c.at_mips.level[l].values && c.at_mips.level[l].psnr() < target_psnr) holds = false;
+        if (again.at_mips.level[l].values && again.at_mips.level[l].psnr() < target_psnr) return {};
+      consider(c, q, f);
       return {};
     };
     if (try_downscales && !alpha)
@@ -326,18 +327,14 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
         const OIIO::ImageBuf pixels = scaled(decoded->pixels, scale);
         Coded c;
         int found = 0;
-        bool holds = false;
         if (coding.lossy) {
           if (Error e = search(pixels, c, found); e.failed()) return e;
-          if (found > 0 && wins(c))
-            if (Error e = shows_as_source(pixels, coding.mime, found, holds); e.failed()) return e;
-          if (holds) consider(c, found, {scale, false});
+          if (found > 0)
+            if (Error e = consider_fewer_texels(pixels, coding.mime, c, found, {scale, false}); e.failed())
+              return e;
         }
         if (Error e = code(pixels, "image/png", 0, c); e.failed()) return e;
-        holds = false;
-        if (wins(c))
-          if (Error e = shows_as_source(pixels, "image/png", 0, holds); e.failed()) return e;
-        if (holds) consider(c, 0, {scale, true});
+        if (Error e = consider_fewer_texels(pixels, "image/png", c, 0, {scale, true}); e.failed()) return e;
       }
     if (!reached || best.bytes >= as_is) {  // the source as it is is the better file
       out.bytes += as_is;
