@@ -161,7 +161,8 @@ Runner add_encode(CLI::App& app) {
                      "sources): below it the density goes up 1.5x, then 2x, and texels are never "
                      "halved below it. With a lossy coder (JPEG or WebP) and no --image-quality, "
                      "the encoder also chooses the coder's quality: the one whose atlas reaches "
-                     "the target with the fewest bytes. Default: 44 (near transparency) with PNG "
+                     "the target with the fewest bytes, or a lossless (PNG) atlas where that reaches "
+                     "it in fewer. Default: 44 (near transparency) with PNG "
                      "atlases, where an atlas that then outweighs its sources keeps explicit UVs; "
                      "with JPEG atlases 40, bounding only the halving. 0: trade quality for bytes "
                      "down to --min-psnr")

@@ -30,7 +30,8 @@ nlohmann::json equal_quality(const EncodeReport& report) {
            {"explicit_psnr_db",
             a.explicit_psnr > 0 ? nlohmann::json(round2(a.explicit_psnr)) : nlohmann::json()},
            {"explicit_images", explicit_images(a.explicit_image_quality, a.explicit_image_mime)},
-           {"image_quality", a.image_quality > 0 ? nlohmann::json(a.image_quality) : nlohmann::json()}});
+           {"image_quality", a.image_quality > 0 ? nlohmann::json(a.image_quality) : nlohmann::json()},
+           {"lossless_chosen", a.lossless_chosen}});
   for (const auto& p : report.primitives)
     if (p.handling == Handling::fallback && p.fallback.reason == FallbackReason::explicit_smaller) {
       const Fallback& f = p.fallback;

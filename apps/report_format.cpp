@@ -212,6 +212,12 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
                   a.quality_reached ? "as the fewest bytes reaching the target"
                                     : "as the closest tried: none reached the target",
                   a.quality_trials);
+    if (a.lossless_chosen)
+      std::printf(
+          "  rate control: chose PNG, as it reaches the target in fewer bytes than the best lossy quality "
+          "tried "
+          "(q%d: %zu bytes; %d settings tried)\n",
+          a.lossy_quality_beaten, a.lossy_bytes_beaten, a.quality_trials);
     if (a.reused_patches > 0)
       std::printf("  texel reuse: %u patches land on the texels of congruent ones (%.0f texels saved)\n",
                   a.reused_patches, a.reused_texels);

@@ -151,6 +151,29 @@ def bd_psnr(anchor, test, min_overlap_log=0.0):
     return gap
 
 
+def next_file_up_rate(anchor, test, min_overlap_db=MIN_OVERLAP_DB):
+    """Rate ratio with no fit: for each quality q over the interval both Pareto fronts span, each curve
+    offers its smallest file of q dB or better (its next front point up); returns exp(mean over q of
+    ln(test bytes / anchor bytes)) - 1, exactly, since both costs are step functions of q. None when either
+    front is empty or the interval is narrower than min_overlap_db.
+
+    Where a front has a wide gap, BD-rate compares a smooth fit across it with the other curve; here the
+    curve pays for its next real file across the gap, as a user who asks for that quality does."""
+    fa, ft = pareto_front(anchor), pareto_front(test)
+    if not fa or not ft:
+        return None
+    lo, hi = max(fa[0][1], ft[0][1]), min(fa[-1][1], ft[-1][1])
+    if hi - lo < min_overlap_db:
+        return None
+    def cost(front, q):  # the first front point at q dB or better (fronts rise in bytes and PSNR)
+        return next(b for b, p in front if p >= q)
+    cuts = sorted({lo, hi} | {p for _, p in fa + ft if lo < p < hi})
+    total = 0.0
+    for a, b in zip(cuts, cuts[1:]):  # both costs are constant on (a, b]
+        total += (b - a) * (math.log(cost(ft, b)) - math.log(cost(fa, b)))
+    return math.exp(total / (hi - lo)) - 1
+
+
 def geometric_mean_ratio(bd_rates):
     """Geometric mean of (1 + BD-rate) over the given values (None skipped), minus 1."""
     v = [1 + b for b in bd_rates if b is not None]

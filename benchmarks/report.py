@@ -142,6 +142,7 @@ def bd_rows(rows):
                 d[f"overlap_{base}_{q}"] = res["overlap"]
                 d[f"points_{base}_{q}"] = res["points_anchor"]
                 d[f"bd_psnr_{base}_{q}"] = bdrate.bd_psnr(curve(r, names, key), ours)
+                d[f"next_up_{base}_{q}"] = bdrate.next_file_up_rate(curve(r, names, key), ours)
                 d[f"ceiling_{base}_{q}"] = res["ceiling_anchor"]
                 d[f"ceiling_ours_{q}"] = res["ceiling_test"]
                 d[f"points_ours_{q}"] = res["points_test"]
@@ -179,17 +180,21 @@ def bd_report(rows, outdir):
              "PCHIP fit of log bytes over PSNR on each curve's Pareto front (benchmarks/bdrate.py); "
              "no figure where the curves overlap by less than 1 dB. Between neighbouring front points a curve "
              "has no file and the fit interpolates: the widest such gap of each curve has its column, and over a "
-             "wide one a BD-rate compares interpolations, not files. See benchmarks/README.md.", "",
+             "wide one a BD-rate compares interpolations, not files. The next-file-up columns fit nothing: at "
+             "each quality over both fronts' common range, each curve's smallest file at that quality or better, "
+             "the ratio averaged in log over the range (bdrate.next_file_up_rate). See benchmarks/README.md.", "",
              "| model | BD-rate vs B1, surface | BD-rate vs B1, render | BD-rate vs B2, surface | BD-rate vs B2, render "
-             "| BD-PSNR vs B1, surface | ceiling ours / B1 / B2, surface dB | ceiling ours / B1, render dB "
+             "| next file up vs B1 / B2, surface | next file up vs B1 / B2, render | BD-PSNR vs B1, surface | ceiling ours / B1 / B2, surface dB | ceiling ours / B1, render dB "
              "| overlap vs B1, surface dB | widest front gap ours / B1, surface dB "
              "| front points ours / B1 / B2 | ours points keeping explicit UVs "
              "| BD-rate vs B1, surface, implicit-UV points only (their ceiling dB) |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for d in ds:
         lines.append(
             f"| {d['model']} | {bd_cell(d, 'b1', 'surface')} | {bd_cell(d, 'b1', 'render')} | "
             f"{bd_cell(d, 'b2', 'surface')} | {bd_cell(d, 'b2', 'render')} | "
+            f"{pct(d['next_up_b1_surface'])} / {pct(d['next_up_b2_surface'])} | "
+            f"{pct(d['next_up_b1_render'])} / {pct(d['next_up_b2_render'])} | "
             f"{db(d['bd_psnr_b1_surface'])} | "
             f"{f1(d['ceiling_ours_surface'])} / {f1(d['ceiling_b1_surface'])} / {f1(d['ceiling_b2_surface'])} | "
             f"{f1(d['ceiling_ours_render'])} / {f1(d['ceiling_b1_render'])} | {ov(d['overlap_b1_surface'])} | "
@@ -203,11 +208,15 @@ def bd_report(rows, outdir):
             for _, q in QUALITY:
                 vals = [d[f"bd_rate_{base}_{q}"] for d in models]
                 out[f"{base}_{q}"] = (bdrate.geometric_mean_ratio(vals), sum(v is not None for v in vals))
+                ups = [d[f"next_up_{base}_{q}"] for d in models]
+                out[f"next_up_{base}_{q}"] = (bdrate.geometric_mean_ratio(ups), sum(v is not None for v in ups))
         return out
     gm = means(ds)
     g = lambda k: f"{pct(gm[k][0])} ({gm[k][1]} models)"
+    up = lambda m, q: f"{pct(m[f'next_up_b1_{q}'][0])} / {pct(m[f'next_up_b2_{q}'][0])}"
     lines.append(f"| **geometric mean of (1 + BD-rate) − 1** | {g('b1_surface')} | {g('b1_render')} | "
-                 f"{g('b2_surface')} | {g('b2_render')} | | | | | | | | |")
+                 f"{g('b2_surface')} | {g('b2_render')} | {up(gm, 'surface')} | {up(gm, 'render')} "
+                 "| | | | | | | | |")
     # Issue 16 asks for BD-rate <= 0 "where the method applies" and explicit
     # UVs elsewhere: a model whose every point keeps explicit UVs has no
     # BD-rate of the method (its figure only compares explicit-UV files).
@@ -216,7 +225,8 @@ def bd_report(rows, outdir):
     ga = lambda k: (f"{100 * gm_applies[k][0]:+.2f}%" if gm_applies[k][0] is not None else "-") + \
         f" ({gm_applies[k][1]} models)"
     lines.append(f"| **the same, over models where some point of ours has implicit UVs** | {ga('b1_surface')} | "
-                 f"{ga('b1_render')} | {ga('b2_surface')} | {ga('b2_render')} | | | | | | | | |")
+                 f"{ga('b1_render')} | {ga('b2_surface')} | {ga('b2_render')} | {up(gm_applies, 'surface')} | "
+                 f"{up(gm_applies, 'render')} | | | | | | | | |")
     lost = [d["model"] for d in ds if (d["bd_rate_b1_surface"] or 0) > 0]
     kept = [d["model"] for d in ds if d["ours_points_explicit"] == d["ours_points"]]
     lines += ["", "Lost against baseline 1 (BD-rate > 0, surface): " + (", ".join(lost) if lost else "none") + ".",
@@ -232,7 +242,7 @@ def bd_report(rows, outdir):
     keys = ["model", "triangles", "textured_primitives", "ours_points", "ours_points_explicit"]
     for base in ("b1", "b2"):
         for _, q in QUALITY:
-            keys += [f"bd_rate_{base}_{q}", f"bd_psnr_{base}_{q}", f"ceiling_ours_{q}", f"ceiling_{base}_{q}",
+            keys += [f"bd_rate_{base}_{q}", f"next_up_{base}_{q}", f"bd_psnr_{base}_{q}", f"ceiling_ours_{q}", f"ceiling_{base}_{q}",
                      f"overlap_{base}_{q}", f"points_ours_{q}", f"points_{base}_{q}", f"why_{base}_{q}"]
     keys += ["gap_ours_surface", "gap_b1_surface"]
     keys += ["bd_rate_b1_surface_implicit", "ceiling_ours_surface_implicit", "why_b1_surface_implicit"]
@@ -245,6 +255,7 @@ def bd_report(rows, outdir):
                                                       else d[k]) for k in keys])
         # Each mean under its own BD-rate column (the keys are deduplicated, so count nothing).
         means_by_key = {f"bd_rate_{b}_{q}": gm[f"{b}_{q}"][0] for b in ("b1", "b2") for _, q in QUALITY}
+        means_by_key.update({f"next_up_{b}_{q}": gm[f"next_up_{b}_{q}"][0] for b in ("b1", "b2") for _, q in QUALITY})
         w.writerow(["geometric_mean"] + ["" if means_by_key.get(k) is None else means_by_key[k] for k in keys[1:]])
     return lines
 

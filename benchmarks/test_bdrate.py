@@ -70,6 +70,35 @@ class BdRate(unittest.TestCase):
         # 0.1 dB better is a step the front keeps.
         self.assertIn((26_000 * 1.3, 37.0), bdrate.pareto_front(A + [(26_000 * 1.3, 37.0)]))
 
+    def test_next_file_up_pays_for_the_next_real_file(self):
+        # Over (30, 35] the test's 150 B file against the anchor's 200 B one, over (35, 40] its
+        # 400 B file against 200 B: the mean log ratio is (ln 0.75 + ln 2) / 2.
+        anchor = [(100, 30.0), (200, 40.0)]
+        test = [(100, 30.0), (150, 35.0), (400, 40.0)]
+        self.assertAlmostEqual(bdrate.next_file_up_rate(anchor, test), math.sqrt(1.5) - 1, places=12)
+
+    def test_next_file_up_matches_bd_rate_on_a_uniform_saving(self):
+        b = [(r * 0.8, p) for r, p in A]
+        self.assertAlmostEqual(bdrate.next_file_up_rate(A, b), -0.2, places=12)
+        self.assertAlmostEqual(bdrate.next_file_up_rate(b, A), 0.25, places=12)
+
+    def test_next_file_up_does_not_reward_a_gap(self):
+        # The test curve drops its middle points: BD-rate's fit glides across the gap (close to
+        # the anchor there), but a user asking for 36 dB gets the test's 150,000 B file.
+        test = [A[0], A[-1]]
+        step = bdrate.next_file_up_rate(A, test)
+        fit = bdrate.bd_rate(A, test)["bd_rate"]
+        self.assertGreater(step, fit + 0.5)
+        # Between 31 and 46 dB the anchor's own cost: known, file by file.
+        cuts = [31.0, 34.2, 36.9, 39.8, 42.5, 46.0]
+        anchor_costs = [18_500, 26_000, 41_000, 70_000, 150_000]
+        mean = sum((b - a) * math.log(150_000 / c) for a, b, c in zip(cuts, cuts[1:], anchor_costs)) / 15.0
+        self.assertAlmostEqual(step, math.exp(mean) - 1, places=12)
+
+    def test_next_file_up_needs_an_overlap(self):
+        self.assertIsNone(bdrate.next_file_up_rate(A, [(r, p + 14.5) for r, p in A]))
+        self.assertIsNone(bdrate.next_file_up_rate(A, []))
+
     def test_geometric_mean(self):
         self.assertAlmostEqual(bdrate.geometric_mean_ratio([-0.2, 0.25, None]), 0.0, places=12)
         self.assertIsNone(bdrate.geometric_mean_ratio([None]))

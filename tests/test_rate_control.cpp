@@ -25,7 +25,8 @@ QualityTrial jpeg_like(int q) { return {size_t(std::lround(1000.0 * std::exp(q /
 
 // The Duck's one atlas, encoded in process with its images as JPEG and a
 // 40 dB target (no fallback: the atlas is measured here, not the
-// keep-or-fall-back choice). The quality, the density adaptation: `set`.
+// keep-or-fall-back choice). The quality, the target, the format, the
+// density adaptation: `set`.
 ::testing::AssertionResult encode_duck_jpeg(const std::function<void(EncodeOptions&)>& set,
                                             AtlasReport& atlas) {
   std::string path;
@@ -129,18 +130,20 @@ TEST(QualitySearch, AnErrorEndsTheSearch) {
 
 // The Duck's texture as JPEG at a 40 dB target: the chosen quality reaches
 // the target, and costs fewer bytes than the fixed q90 a user might type
-// for it (which also reaches it).
+// for it (which also reaches it). Since the lossless candidate the written
+// atlas is the Duck's PNG (5.9 KB at 40.75 dB, below the best JPEG's 6.3 KB).
 TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
   GLTFWARP_REQUIRE_CORPUS();
   AtlasReport chosen, fixed90;
   ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions&) {}, chosen));
   ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions& o) { o.image_quality = 90; }, fixed90));
-  std::printf("Duck at 40 dB: rate control q%d %zu B %.2f dB (%d trials); q90 %zu B %.2f dB\n",
-              chosen.image_quality, chosen.atlas_image_bytes, chosen.psnr, chosen.quality_trials,
-              fixed90.atlas_image_bytes, fixed90.psnr);
+  std::printf("Duck at 40 dB: rate control q%d%s %zu B %.2f dB (%d trials); q90 %zu B %.2f dB\n",
+              chosen.image_quality, chosen.lossless_chosen ? " (PNG)" : "", chosen.atlas_image_bytes,
+              chosen.psnr, chosen.quality_trials, fixed90.atlas_image_bytes, fixed90.psnr);
   ASSERT_GE(fixed90.psnr, 40.0) << "precondition: the fixed quality reaches the target";
   EXPECT_TRUE(chosen.quality_reached);
-  EXPECT_GT(chosen.image_quality, 0);
+  // A JPEG quality, or the lossless atlas where that is smaller still.
+  EXPECT_TRUE(chosen.image_quality > 0 || chosen.lossless_chosen);
   EXPECT_GE(chosen.psnr, 40.0);
   EXPECT_LT(chosen.atlas_image_bytes, fixed90.atlas_image_bytes);
   EXPECT_EQ(fixed90.image_quality, 0) << "a quality given is not searched";
@@ -165,4 +168,34 @@ TEST(RateControl, HalvingStopsAtTheGoalWithALossyCoder) {
               fixed.source_image_bytes);
   EXPECT_GE(adaptive.psnr, std::min(40.0, fixed.psnr));
   EXPECT_LE(adaptive.atlas_image_bytes, fixed.atlas_image_bytes);
+}
+
+// Rate control's lossless candidate: under a JPEG target the atlas the
+// encoder writes costs no more image bytes than the same target asked with
+// the source's own lossless coding (PNG stays PNG, palette included). At
+// 44 dB on the Duck's few-coloured texture PNG is the smaller (the JPEG
+// search alone wrote 14.9 KB where PNG needs 9.9 KB), so the encoder must
+// write it and say so.
+TEST(RateControl, ALosslessAtlasIsWrittenWhereItReachesTheTargetInFewerBytes) {
+  GLTFWARP_REQUIRE_CORPUS();
+  constexpr double kTarget = 44;
+  AtlasReport controlled, lossless;
+  ASSERT_TRUE(encode_duck_jpeg([&](EncodeOptions& o) { o.goal_psnr = kTarget; }, controlled));
+  ASSERT_TRUE(encode_duck_jpeg(
+      [&](EncodeOptions& o) {
+        o.goal_psnr = kTarget;
+        o.image_format = "keep";
+      },
+      lossless));
+  std::printf("Duck at %.0f dB: JPEG target %zu B %.2f dB (%s; best JPEG q%d %zu B), PNG %zu B %.2f dB\n",
+              kTarget, controlled.atlas_image_bytes, controlled.psnr,
+              controlled.lossless_chosen ? "PNG chosen" : "JPEG", controlled.lossy_quality_beaten,
+              controlled.lossy_bytes_beaten, lossless.atlas_image_bytes, lossless.psnr);
+  ASSERT_GE(lossless.psnr, kTarget) << "precondition: the lossless atlas reaches the target";
+  EXPECT_GE(controlled.psnr, kTarget);
+  EXPECT_LE(controlled.atlas_image_bytes, lossless.atlas_image_bytes);
+  ASSERT_TRUE(controlled.lossless_chosen);
+  EXPECT_EQ(controlled.atlas_image_bytes, lossless.atlas_image_bytes) << "the same atlas as keep writes";
+  EXPECT_LT(controlled.atlas_image_bytes, controlled.lossy_bytes_beaten);
+  EXPECT_EQ(controlled.image_quality, 0) << "no JPEG quality is reported for a PNG atlas";
 }

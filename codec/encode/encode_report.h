@@ -149,6 +149,12 @@ struct AtlasReport {
   int image_quality = 0;
   int quality_trials = 0;
   bool quality_reached = false;
+  // ... or rate control wrote the atlas losslessly (PNG): it reached the
+  // target in fewer bytes than the lossy search's best (that quality, those
+  // image bytes).
+  bool lossless_chosen = false;
+  int lossy_quality_beaten = 0;
+  size_t lossy_bytes_beaten = 0;
   double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
   double fit_seconds = 0;  // time the fit took, over the images and pages
 };
