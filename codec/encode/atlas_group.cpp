@@ -678,8 +678,13 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
       LossySources recode = lossy;
       SourceForms forms;
       if (targeted) {
-        const double target = std::max(built.floor_psnr(), aim.goal);
-        const EqualQualityImages* priced = target > built.floor_psnr() ? nullptr : &alternative;
+        // A lossless atlas has no coder quality to stop at the target, so
+        // its overshoot (40.7 dB for 40) is not a quality the user asked
+        // for: the sources then go out at the target itself, fewer bytes
+        // than the comparison priced.
+        const double target =
+            built.report.lossless_chosen ? aim.goal : std::max(built.floor_psnr(), aim.goal);
+        const EqualQualityImages* priced = target != built.floor_psnr() ? nullptr : &alternative;
         if (Error e = sources_for_target(model, plan, group, built, searched, repacks, normals, target,
                                          priced, sources, recode, forms, why);
             e.failed())
