@@ -141,8 +141,9 @@ Runner add_encode(CLI::App& app) {
          "to fit; a primitive too large for one page is cut into primitives of one page each. 1: one page")
       ->check(CLI::Range(1, 256));
   app.add_option("--gutter", a->opt.gutter, "Texels of padding around every patch")->check(CLI::Range(0, 64));
-  app.add_flag("--power-of-two", a->opt.power_of_two,
-               "Atlas sides as powers of two (default: multiples of 4)");
+  app.add_flag(
+      "--power-of-two", a->opt.power_of_two,
+      "Atlas sides as powers of two (default: multiples of 16, so that MIP levels 0-4 halve exactly)");
   app.add_option("--image-format", a->opt.image_format,
                  "keep, png, jpeg or webp (lossy; the file then requires EXT_texture_webp)")
       ->check(CLI::IsMember({"keep", "png", "jpeg", "webp"}));

@@ -170,8 +170,8 @@ TEST(Pack, NoOverlapGutterInsideAndFill) {
   EXPECT_EQ(r.overlap_texels, 0u);
   EXPECT_EQ(r.outside_texels, 0u);
   EXPECT_EQ(r.patch_count, 100u);
-  EXPECT_EQ(r.atlas_width % 4, 0u);
-  EXPECT_EQ(r.atlas_height % 4, 0u);
+  EXPECT_EQ(r.atlas_width % 16, 0u);  // MIP levels 0..4 halve exactly
+  EXPECT_EQ(r.atlas_height % 16, 0u);
   EXPECT_EQ(r.page_count, 1u);
   ASSERT_EQ(res.maps.size(), 2u);
   EXPECT_EQ(res.maps[1].placements.size(), 40u);
@@ -280,6 +280,33 @@ TEST(Pack, PowerOfTwoAndShrinkToMaxSize) {
   EXPECT_EQ(r.overlap_texels, 0u);
   EXPECT_EQ(r.outside_texels, 0u);
   check_footprints(prims, res, opt.gutter);
+}
+
+// A --max-atlas-size that is no multiple of 16 bounds the page as asked: a
+// height that fits it is never rounded past it (the trial would fail, and
+// the patches would shrink for nothing), so over a range of densities some
+// page uses the rows between 288 and 300; every side stays within 300 and is
+// a multiple of 16 or the bound itself.
+TEST(Pack, MaxSizeNoMultipleOf16StaysTheBound) {
+  const GenPrim a = generate(50, 3);
+  const PackPrimitive prims[1] = {a.view()};
+  int tall = 0;
+  for (int k = 0; k < 24; ++k) {
+    PackOptions opt;
+    opt.texel_scale = 8.0 * std::pow(1.08, k);
+    opt.max_atlas_size = 300;
+    PackResult res;
+    ASSERT_EQ(pack_atlas(prims, opt, res), PackStatus::ok);
+    const PackReport& r = res.report;
+    EXPECT_LE(r.atlas_width, 300u);
+    EXPECT_LE(r.atlas_height, 300u);
+    EXPECT_TRUE(r.atlas_width % 16 == 0 || r.atlas_width == 300u) << r.atlas_width;
+    EXPECT_TRUE(r.atlas_height % 16 == 0 || r.atlas_height == 300u) << r.atlas_height;
+    EXPECT_EQ(r.overlap_texels, 0u);
+    EXPECT_EQ(r.outside_texels, 0u);
+    tall += r.atlas_height > 288u;
+  }
+  EXPECT_GT(tall, 0) << "no page used the rows past the last multiple of 16 below the bound";
 }
 
 TEST(Pack, SeveralPages) {

@@ -51,7 +51,7 @@ struct EncodeOptions {
   // snaps them back to the palette, and the adaptive density spends its
   // gain in fewer texels.
   bool least_squares_texels = false;
-  bool power_of_two = false;     // atlas sides as powers of two (else multiples of 4)
+  bool power_of_two = false;     // atlas sides as powers of two (else multiples of 16)
   bool orient_to_source = true;  // --orientation source: patches turned to the source image's axes
   // Patches whose source map is a similarity land on the source's texel
   // grid and keep its texels exactly (texel_alignment.h); false: --resample-all.

@@ -202,7 +202,7 @@ Error pack_group(const ImplicitPlan& plan, const AtlasGroup& group, const Encode
   po.density_reference = density.reference;
   po.gutter = static_cast<uint32_t>(std::max(0, options.gutter));
   po.max_atlas_size = options.max_atlas_size;
-  po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_4;
+  po.rounding = options.power_of_two ? SizeRounding::power_of_two : SizeRounding::multiple_of_16;
   po.orientation = options.orient_to_source ? PatchOrientation::source_axes : PatchOrientation::min_rectangle;
   if (effort == PackEffort::one_order) po.multi_order_max_patches = 0;
   // Pages by estimate; when a page of several members still overflows (the

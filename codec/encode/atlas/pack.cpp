@@ -432,14 +432,19 @@ bool bitmap_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32
   return true;
 }
 
-uint32_t round_size(uint64_t v, SizeRounding r) {
+// v rounded up by `r`. A side that fits within `max_size` stays within it,
+// rounded or not: a --max-atlas-size that is no multiple of 16 is the
+// user's bound, and a patch set that fits it must not be shrunk for the
+// rounding's sake.
+uint32_t round_size(uint64_t v, SizeRounding r, uint32_t max_size) {
   if (v == 0) v = 1;
+  uint64_t rounded = (v + 15) / 16 * 16;
   if (r == SizeRounding::power_of_two) {
-    uint64_t p = 1;
-    while (p < v) p <<= 1;
-    return uint32_t(p);
+    rounded = 1;
+    while (rounded < v) rounded <<= 1;
   }
-  return uint32_t((v + 3) / 4 * 4);
+  if (v <= max_size) rounded = std::min<uint64_t>(rounded, max_size);
+  return uint32_t(std::min<uint64_t>(rounded, UINT32_MAX));
 }
 
 // The turn that lays the source image's axes along the atlas's: each face's
@@ -804,7 +809,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       min_w = std::max(min_w, m * cell);
     }
     for (double f : {0.8, 0.9, 1.0, 1.12, 1.25, 1.45}) {
-      uint32_t w = round_size(uint64_t(std::max(double(min_w), side * f)), options.rounding);
+      uint32_t w = round_size(uint64_t(std::max(double(min_w), side * f)), options.rounding, max_size);
       w = std::min(w, max_size);
       if (std::find(widths.begin(), widths.end(), w) == widths.end()) widths.push_back(w);
     }
@@ -849,7 +854,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (!fits) return;
       int hc = 0;
       for (const Page& pg : trial_pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
-      t.h = round_size(uint64_t(hc) * cell, options.rounding);
+      t.h = round_size(uint64_t(hc) * cell, options.rounding, max_size);
       if (t.h > max_size) return;
       t.pages = uint32_t(trial_pages.size());
       t.area = uint64_t(t.w) * t.h * t.pages;
