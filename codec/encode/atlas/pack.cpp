@@ -438,11 +438,11 @@ bool bitmap_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32
 // rounding's sake.
 uint32_t round_size(uint64_t v, SizeRounding r, uint32_t max_size) {
   if (v == 0) v = 1;
-  uint64_t rounded = (v + 15) / 16 * 16;
-  if (r == SizeRounding::power_of_two) {
-    rounded = 1;
+  uint64_t rounded = 1;
+  if (r == SizeRounding::power_of_two)
     while (rounded < v) rounded <<= 1;
-  }
+  else
+    rounded = (v + kMipExactBlock - 1) / kMipExactBlock * kMipExactBlock;
   if (v <= max_size) rounded = std::min<uint64_t>(rounded, max_size);
   return uint32_t(std::min<uint64_t>(rounded, UINT32_MAX));
 }

@@ -60,6 +60,12 @@ struct PackPrimitive {
   uint32_t align_width = 0, align_height = 0;
 };
 
+// The block that atlas sides are multiples of (SizeRounding::multiple_of_16)
+// and that texel-exact patches line up with the source's (align_mip_block):
+// one number, since a patch's MIP chain is the source's only at the levels
+// where the atlas halves exactly.
+constexpr uint32_t kMipExactBlock = 16;
+
 enum class SizeRounding : uint8_t {
   // Width and height rounded up to a multiple of 16, so that MIP levels 0..4
   // halve exactly and every viewer builds the same chain (an odd side has no
@@ -139,7 +145,7 @@ struct PackOptions {
   // VertexColorTest 43.9 dB and TextureTransformTest 45.9 dB, their level-3
   // pixels 27 and 26 dB; at 16, 50.9 and 47.6 dB, for 64 and 60 more bytes
   // (8: 51.1 and 43.9 dB). 1: off.
-  uint32_t align_mip_block = 16;
+  uint32_t align_mip_block = kMipExactBlock;
   double shrink_factor = 0.92;  // texel scale factor per retry when a page would be too large
   uint32_t max_retries = 60;    // give up (status too_large) after this many shrinks
 };
