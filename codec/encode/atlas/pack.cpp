@@ -2,9 +2,11 @@
 #include "codec/encode/atlas/pack.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <climits>
 #include <cmath>
+#include <functional>
 #include <numeric>
 
 #include "codec/core/geometry2d.h"
@@ -323,10 +325,18 @@ struct Page {
   std::vector<int> sky;
 };
 
+// Whether a trial can still win, from its pages so far and their highest
+// cell row: both only grow as patches are added, so once the area they
+// already imply exceeds the smallest area a finished trial reached, the
+// trial stops (pack_atlas). May be empty: every trial runs to its end.
+using TrialHopeless = std::function<bool(size_t pages, int top_cells)>;
+
 // Drops every patch (in order) onto the lowest-waste skyline position of the
 // first page where it fits. Returns false when max_pages would be exceeded.
 bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
-                  int hc_max, uint32_t max_pages, std::vector<Placed>& placed, std::vector<Page>& pages) {
+                  int hc_max, uint32_t max_pages, const TrialHopeless& hopeless, std::vector<Placed>& placed,
+                  std::vector<Page>& pages) {
+  int top_cells = 0;
   pages.clear();
   placed.assign(patches.size(), Placed{});
   for (uint32_t pi : order) {
@@ -366,11 +376,14 @@ bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint3
       }
       const Mask& m = p.masks[best_m];
       for (int c = 0; c < m.cw; ++c)
-        if (m.bottom[c] != kNone) sky[best_x + c] = best_y + m.top[c];
+        if (m.bottom[c] != kNone) {
+          sky[best_x + c] = best_y + m.top[c];
+          top_cells = std::max(top_cells, sky[best_x + c]);
+        }
       placed[pi] = Placed{int(pg), best_m, best_x, best_y};
       done = true;
     }
-    if (!done) return false;
+    if (!done || (hopeless && hopeless(pages.size(), top_cells))) return false;
   }
   return true;
 }
@@ -379,8 +392,9 @@ bool skyline_pack(const std::vector<PatchInfo>& patches, const std::vector<uint3
 // leftmost, position (over its turns) where its true footprint fits, so small
 // patches fill the holes that larger ones leave.
 bool bitmap_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32_t>& order, int wc,
-                 int hc_max, uint32_t max_pages, int search_depth, std::vector<Placed>& placed,
-                 std::vector<Page>& pages) {
+                 int hc_max, uint32_t max_pages, int search_depth, const TrialHopeless& hopeless,
+                 std::vector<Placed>& placed, std::vector<Page>& pages) {
+  int top_cells = 0;
   std::vector<Bitmap> maps;
   pages.clear();
   placed.assign(patches.size(), Placed{});
@@ -423,11 +437,14 @@ bool bitmap_pack(const std::vector<PatchInfo>& patches, const std::vector<uint32
       bm.used_rows = std::max(bm.used_rows, best_y + m.ch);
       std::vector<int>& sky = pages[pg].sky;
       for (int c = 0; c < m.cw; ++c)
-        if (m.bottom[c] != kNone) sky[best_x + c] = std::max(sky[best_x + c], best_y + m.top[c]);
+        if (m.bottom[c] != kNone) {
+          sky[best_x + c] = std::max(sky[best_x + c], best_y + m.top[c]);
+          top_cells = std::max(top_cells, sky[best_x + c]);
+        }
       placed[pi] = Placed{int(pg), best_m, best_x, best_y};
       done = true;
     }
-    if (!done) return false;
+    if (!done || (hopeless && hopeless(pages.size(), top_cells))) return false;
   }
   return true;
 }
@@ -843,14 +860,25 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
         trials.back().order = &o;
         trials.back().w = w;
       }
+    // The smallest area a finished trial reached. A trial whose pages so
+    // far already imply a larger one stops: it cannot win, since the
+    // choice below takes the smallest area (ties go to the squarer, then
+    // the earlier trial, and a tie never stops). Which trials stop depends
+    // on timing; the winner does not. The CesiumMilkTruck's trials ran to
+    // their end for nothing in most of its packs.
+    std::atomic<uint64_t> finished_best{UINT64_MAX};
     auto run_trial = [&](Trial& t) {
       const int wc = int(t.w) / cell;
+      const TrialHopeless hopeless = [&](size_t pages, int top_cells) {
+        const uint64_t h = round_size(uint64_t(top_cells) * cell, options.rounding, max_size);
+        return uint64_t(t.w) * h * pages > finished_best.load(std::memory_order_relaxed);
+      };
       std::vector<Page> trial_pages;
-      const bool fits =
-          options.method == PackMethod::bitmap
-              ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages, int(options.search_depth),
-                            t.placed, trial_pages)
-              : skyline_pack(patches, *t.order, wc, hc_max, options.max_pages, t.placed, trial_pages);
+      const bool fits = options.method == PackMethod::bitmap
+                            ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages,
+                                          int(options.search_depth), hopeless, t.placed, trial_pages)
+                            : skyline_pack(patches, *t.order, wc, hc_max, options.max_pages, hopeless,
+                                           t.placed, trial_pages);
       if (!fits) return;
       int hc = 0;
       for (const Page& pg : trial_pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
@@ -858,6 +886,9 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (t.h > max_size) return;
       t.pages = uint32_t(trial_pages.size());
       t.area = uint64_t(t.w) * t.h * t.pages;
+      uint64_t seen = finished_best.load(std::memory_order_relaxed);
+      while (t.area < seen && !finished_best.compare_exchange_weak(seen, t.area, std::memory_order_relaxed)) {
+      }
     };
     run_in_parallel(trials.size(), worker_count(trials.size()),
                     [&](size_t i, size_t) { run_trial(trials[i]); });
