@@ -398,6 +398,49 @@ TEST(Pack, BadInput) {
 }
 
 // Speed is measured in benchmarks/bench_warp.cpp, never asserted here.
+// Stopping trials that cannot win changes only the time: the same page
+// size and the same placement for every patch, with both methods, one
+// page and several, over sets where many trials lose.
+TEST(Pack, StoppingLosingTrialsKeepsThePacking) {
+  uint32_t stops = 0;
+  for (const uint32_t seed : {3u, 11u, 29u}) {
+    const GenPrim a = generate(150, seed, 10.0, true);
+    const PackPrimitive prims[1] = {a.view()};
+    for (const PackMethod method : {PackMethod::bitmap, PackMethod::skyline})
+      for (const uint32_t max_pages : {1u, 3u}) {
+        SCOPED_TRACE(testing::Message()
+                     << "seed " << seed << " method " << int(method) << " pages " << max_pages);
+        PackOptions opt;
+        opt.texel_scale = 4.0;
+        opt.method = method;
+        opt.max_pages = max_pages;
+        if (max_pages > 1) opt.max_atlas_size = 512;  // spills into pages
+        PackResult stopped, full;
+        ASSERT_EQ(pack_atlas(prims, opt, stopped), PackStatus::ok);
+        opt.stop_losing_trials = false;
+        ASSERT_EQ(pack_atlas(prims, opt, full), PackStatus::ok);
+        EXPECT_EQ(full.report.stopped_trials, 0u);
+        stops += stopped.report.stopped_trials;
+        EXPECT_EQ(stopped.report.atlas_width, full.report.atlas_width);
+        EXPECT_EQ(stopped.report.atlas_height, full.report.atlas_height);
+        EXPECT_EQ(stopped.report.page_count, full.report.page_count);
+        EXPECT_EQ(stopped.report.texel_scale, full.report.texel_scale);
+        ASSERT_EQ(stopped.maps.size(), full.maps.size());
+        const std::vector<PatchPlacement>& ps = stopped.maps[0].placements;
+        const std::vector<PatchPlacement>& pf = full.maps[0].placements;
+        ASSERT_EQ(ps.size(), pf.size());
+        for (size_t i = 0; i < ps.size(); ++i) {
+          EXPECT_EQ(ps[i].x, pf[i].x) << "patch " << i;
+          EXPECT_EQ(ps[i].y, pf[i].y) << "patch " << i;
+          EXPECT_EQ(ps[i].page, pf[i].page) << "patch " << i;
+          EXPECT_EQ(ps[i].rotation, pf[i].rotation) << "patch " << i;
+        }
+      }
+  }
+  std::printf("trials stopped early: %u\n", stops);
+  EXPECT_GT(stops, 0u) << "no trial stopped: the comparison above tested nothing";
+}
+
 TEST(Pack, ThousandsOfPatchesPackWithoutOverlap) {
   const GenPrim a = generate(3000, 6, 3.0);
   const PackPrimitive prims[1] = {a.view()};

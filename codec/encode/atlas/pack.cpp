@@ -867,12 +867,17 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     // on timing; the winner does not. The CesiumMilkTruck's trials ran to
     // their end for nothing in most of its packs.
     std::atomic<uint64_t> finished_best{UINT64_MAX};
+    std::atomic<uint32_t> stopped{0};
     auto run_trial = [&](Trial& t) {
       const int wc = int(t.w) / cell;
-      const TrialHopeless hopeless = [&](size_t pages, int top_cells) {
-        const uint64_t h = round_size(uint64_t(top_cells) * cell, options.rounding, max_size);
-        return uint64_t(t.w) * h * pages > finished_best.load(std::memory_order_relaxed);
-      };
+      TrialHopeless hopeless;
+      if (options.stop_losing_trials)
+        hopeless = [&](size_t pages, int top_cells) {
+          const uint64_t h = round_size(uint64_t(top_cells) * cell, options.rounding, max_size);
+          const bool lost = uint64_t(t.w) * h * pages > finished_best.load(std::memory_order_relaxed);
+          if (lost) stopped.fetch_add(1, std::memory_order_relaxed);
+          return lost;
+        };
       std::vector<Page> trial_pages;
       const bool fits = options.method == PackMethod::bitmap
                             ? bitmap_pack(patches, *t.order, wc, hc_max, options.max_pages,
@@ -965,6 +970,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       const double ps = scale * pscale(p.scale_step);
       for (uint32_t f : p.faces) rep.reused_texels += layout_face_area(prims[p.prim].corner_xy, f) * ps * ps;
     }
+    rep.trials = uint32_t(trials.size());
+    rep.stopped_trials = stopped.load();
     rep.atlas_width = best_w;
     rep.atlas_height = best_h;
     rep.page_count = best_pages;
