@@ -212,17 +212,27 @@ void build_mask(const PackPrimitive& pr, const std::vector<uint32_t>& faces, dou
       m.widest[row] = std::max(m.widest[row], m.runs[k].second - m.runs[k].first);
 }
 
-// Occupancy of one page, one bit per cell.
+constexpr int kLongFree = 65535;  // Bitmap::free_from's cap: "this many or more"
+
+// Occupancy of one page, one bit per cell, and per cell the length of the
+// free run that starts there (0 where occupied), so that whether a run of
+// a mask fits is one look-up.
 struct Bitmap {
   int wc = 0, hc = 0, words = 0;
   std::vector<uint64_t> bits;
-  int used_rows = 0;          // rows below this are all free
-  std::vector<int> max_free;  // per row: longest run of free cells
+  std::vector<uint16_t> free_from;  // capped at kLongFree (16 bits: 2 bytes per cell)
+  int used_rows = 0;                // rows below this are all free
+  std::vector<int> max_free;        // per row: longest run of free cells
   void reset(int w, int h) {
     wc = w, hc = h, words = (w + 63) / 64, used_rows = 0;
     bits.assign(size_t(words) * h, 0);
     max_free.assign(h, w);
+    free_from.resize(size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) free_from[size_t(y) * w + x] = uint16_t(std::min(w - x, kLongFree));
   }
+  // Free cells from x on in row y (kLongFree: that many or more).
+  int free_at(int y, int x) const { return free_from[size_t(y) * wc + x]; }
   void update_free(int y) {
     const uint64_t* row = &bits[size_t(y) * words];
     int best = 0, run = 0;
@@ -275,6 +285,9 @@ struct Bitmap {
   void set(int y, int lo, int hi) {
     uint64_t* row = &bits[size_t(y) * words];
     for (int i = lo; i < hi; ++i) row[i >> 6] |= uint64_t(1) << (i & 63);
+    uint16_t* run = &free_from[size_t(y) * wc];
+    std::fill(run + lo, run + hi, uint16_t(0));
+    for (int i = lo - 1; i >= 0 && run[i] != 0; --i) run[i] = uint16_t(std::min(lo - i, kLongFree));
   }
 };
 
@@ -299,7 +312,9 @@ bool lowest_fit(const Bitmap& bm, const Mask& m, int& out_x, int& out_y, int y_f
         const int yy = y + r;
         if (yy >= bm.used_rows) continue;
         for (int k = m.row_start[r]; k < m.row_start[r + 1]; ++k) {
-          const int p = bm.first_set(yy, x + m.runs[k].first, x + m.runs[k].second);
+          // p: the first occupied cell the run meets, if any.
+          const int from = x + m.runs[k].first, to = x + m.runs[k].second, free = bm.free_at(yy, from);
+          const int p = free == kLongFree ? bm.first_set(yy, from, to) : from + free < to ? from + free : -1;
           if (p >= 0) {  // skip the whole occupied run that starts at p
             x = m.align_up(std::max(x + 1, bm.first_clear(yy, p) - m.runs[k].first));
             hit = true;
