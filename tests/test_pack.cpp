@@ -397,7 +397,6 @@ TEST(Pack, BadInput) {
   EXPECT_EQ(pack_atlas(prims, opt, res), PackStatus::bad_input);
 }
 
-// Speed is measured in benchmarks/bench_warp.cpp, never asserted here.
 // Stopping trials that cannot win changes only the time: the same page
 // size and the same placement for every patch, with both methods, one
 // page and several, over sets where many trials lose.
@@ -441,6 +440,7 @@ TEST(Pack, StoppingLosingTrialsKeepsThePacking) {
   EXPECT_GT(stops, 0u) << "no trial stopped: the comparison above tested nothing";
 }
 
+// Speed is measured in benchmarks/bench_warp.cpp, never asserted here.
 TEST(Pack, ThousandsOfPatchesPackWithoutOverlap) {
   const GenPrim a = generate(3000, 6, 3.0);
   const PackPrimitive prims[1] = {a.view()};

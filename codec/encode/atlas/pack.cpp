@@ -883,13 +883,19 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     // their end for nothing in most of its packs.
     std::atomic<uint64_t> finished_best{UINT64_MAX};
     std::atomic<uint32_t> stopped{0};
+    // A page's height from its highest cell row, as the chosen trial's is
+    // rounded: the bound and the result use this one rule, which is what
+    // makes the bound a bound.
+    const auto page_height = [&](int top_cells) {
+      return round_size(uint64_t(top_cells) * cell, options.rounding, max_size);
+    };
     auto run_trial = [&](Trial& t) {
       const int wc = int(t.w) / cell;
       TrialHopeless hopeless;
       if (options.stop_losing_trials)
         hopeless = [&](size_t pages, int top_cells) {
-          const uint64_t h = round_size(uint64_t(top_cells) * cell, options.rounding, max_size);
-          const bool lost = uint64_t(t.w) * h * pages > finished_best.load(std::memory_order_relaxed);
+          const bool lost =
+              uint64_t(t.w) * page_height(top_cells) * pages > finished_best.load(std::memory_order_relaxed);
           if (lost) stopped.fetch_add(1, std::memory_order_relaxed);
           return lost;
         };
@@ -902,7 +908,7 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       if (!fits) return;
       int hc = 0;
       for (const Page& pg : trial_pages) hc = std::max(hc, *std::max_element(pg.sky.begin(), pg.sky.end()));
-      t.h = round_size(uint64_t(hc) * cell, options.rounding, max_size);
+      t.h = page_height(hc);
       if (t.h > max_size) return;
       t.pages = uint32_t(trial_pages.size());
       t.area = uint64_t(t.w) * t.h * t.pages;

@@ -122,8 +122,9 @@ struct PackOptions {
   uint32_t multi_order_max_patches = 400;  // up to this many patches, also try 2 more orders
   // Stop a (width, order) trial once its pages so far imply a larger area
   // than a finished trial's: it cannot win, so the packing is the same
-  // either way, and only the time differs (benchmarks/bench_pack.cpp;
-  // CesiumMilkTruck's packs over a whole encode: 8.9 -> 6.6 s).
+  // either way, and only the time differs (BM_PackPatches in
+  // benchmarks/bench_warp.cpp; CesiumMilkTruck's packs over a whole
+  // encode: 8.9 -> 6.6 s).
   bool stop_losing_trials = true;
   bool true_shapes = true;    // false: pack each patch's bounding rectangle (for comparison)
   uint32_t search_depth = 3;  // bitmap: search holes down to this many patch heights
