@@ -1,6 +1,7 @@
-// The pull-push fill of an atlas's empty texels (codec/encode/texture/atlas_fill.h): kept
-// texels stay as they are, every filled texel is a blend of kept ones (so
-// within their range), and a fill follows the side it is nearer to.
+// The fills of an atlas's empty texels (codec/encode/texture/atlas_fill.h).
+// Pull-push: kept texels stay as they are, every filled texel is a blend of
+// kept ones (so within their range), and a fill follows the side it is
+// nearer to. Nearest: every filled texel is a copy of a nearest kept one.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -125,6 +126,76 @@ TEST(AtlasFill, FlattensOnlyWhollyEmptyBlocksToTheirMean) {
   flatten_empty_blocks(px.data(), w, h, nch, false, std::vector<uint8_t>(7, 1), 8);
   flatten_empty_blocks(px.data(), w, h, nch, false, empty, 0);
   EXPECT_EQ(px, now);
+}
+
+// nearest_fill against brute force: every kept texel carries its own index
+// (two 16-bit channels), so each filled texel names the texel it copied,
+// which must be kept and at the least squared distance of any kept texel.
+// Masks from dense to a single kept texel, and one- and two-texel-wide
+// pages, where the column pass alone or the row pass alone decides.
+TEST(AtlasFill, NearestFillCopiesANearestKeptTexel) {
+  std::mt19937 rng(11);
+  for (const auto [w, h, keep_one_in] : {std::array<int, 3>{1, 1, 1},
+                                         {1, 40, 7},
+                                         {40, 1, 7},
+                                         {2, 33, 5},
+                                         {33, 17, 3},
+                                         {64, 48, 50},
+                                         {97, 61, 400},
+                                         {50, 50, 100000}}) {
+    SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", one in " + std::to_string(keep_one_in));
+    const size_t n = size_t(w) * h;
+    std::vector<uint16_t> px(n * 2);
+    std::vector<uint8_t> empty(n);
+    for (size_t i = 0; i < n; ++i) {
+      empty[i] = rng() % uint32_t(keep_one_in) != 0;
+      px[2 * i] = uint16_t(i & 0xFFFF), px[2 * i + 1] = uint16_t(i >> 16);
+    }
+    empty[rng() % n] = 0;  // at least one kept
+    const std::vector<uint16_t> before = px;
+    nearest_fill(reinterpret_cast<uint8_t*>(px.data()), w, h, 2, true, empty);
+    for (size_t i = 0; i < n; ++i) {
+      const size_t from = size_t(px[2 * i]) | size_t(px[2 * i + 1]) << 16;
+      ASSERT_LT(from, n) << i;
+      if (!empty[i]) {
+        ASSERT_EQ(from, i) << "kept texel " << i << " changed";
+        continue;
+      }
+      ASSERT_FALSE(empty[from]) << i << " copied the empty texel " << from;
+      const auto d2 = [&](size_t a, size_t b) {
+        const long dx = long(a % size_t(w)) - long(b % size_t(w)),
+                   dy = long(a / size_t(w)) - long(b / size_t(w));
+        return dx * dx + dy * dy;
+      };
+      long best = -1;
+      for (size_t k = 0; k < n; ++k)
+        if (!empty[k] && (best < 0 || d2(i, k) < best)) best = d2(i, k);
+      ASSERT_EQ(d2(i, from), best) << "texel " << i << " copied " << from;
+    }
+  }
+}
+
+// 8-bit RGB as the warp writes it: the copy is the whole texel; nothing
+// kept gives zeros; bad sizes leave the pixels as they were.
+TEST(AtlasFill, NearestFillCopiesWholeTexelsAndRefusesBadSizes) {
+  std::vector<uint8_t> px(5 * 3 * 3, 0), empty(15, 1);
+  empty[7] = 0;  // the centre texel, (2, 1)
+  px[21] = 10, px[22] = 20, px[23] = 30;
+  nearest_fill(px.data(), 5, 3, 3, false, empty);
+  for (size_t i = 0; i < 15; ++i) {
+    EXPECT_EQ(px[3 * i], 10) << i;
+    EXPECT_EQ(px[3 * i + 1], 20) << i;
+    EXPECT_EQ(px[3 * i + 2], 30) << i;
+  }
+  std::vector<uint8_t> none(4 * 4 * 3, 200);
+  nearest_fill(none.data(), 4, 4, 3, false, std::vector<uint8_t>(16, 1));
+  EXPECT_TRUE(std::all_of(none.begin(), none.end(), [](uint8_t v) { return v == 0; }));
+  std::vector<uint8_t> keep(48, 9);
+  const std::vector<uint8_t> before = keep;
+  nearest_fill(keep.data(), 4, 4, 3, false, std::vector<uint8_t>(15, 1));  // mask too short
+  nearest_fill(keep.data(), 0, 4, 3, false, {});
+  nearest_fill(keep.data(), 4, 4, 9, false, std::vector<uint8_t>(16, 1));  // too many channels
+  EXPECT_EQ(keep, before);
 }
 
 }  // namespace

@@ -120,6 +120,67 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
   });
 }
 
+void nearest_fill(uint8_t* pixels, int width, int height, int channels, bool deep,
+                  std::span<const uint8_t> empty) {
+  if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height)
+    return;
+  const size_t texel_bytes = size_t(channels) * (deep ? 2 : 1);
+  const auto at = [width](int x, int y) { return size_t(y) * size_t(width) + size_t(x); };
+  if (std::all_of(empty.begin(), empty.end(), [](uint8_t e) { return e != 0; })) {
+    std::fill(pixels, pixels + size_t(width) * height * texel_bytes, uint8_t(0));
+    return;
+  }
+  // Pass 1, per column: the nearest kept row in that column (-1: none).
+  std::vector<int32_t> kept_row(size_t(width) * height, -1);
+  OIIO::parallel_for(0, width, [&](int x) {
+    int last = -1;
+    for (int y = 0; y < height; ++y) {
+      if (!empty[at(x, y)]) last = y;
+      kept_row[at(x, y)] = last;
+    }
+    last = -1;
+    for (int y = height - 1; y >= 0; --y) {
+      if (!empty[at(x, y)]) last = y;
+      int32_t& r = kept_row[at(x, y)];
+      if (last >= 0 && (r < 0 || last - y < y - r)) r = last;
+    }
+  });
+  // Pass 2, per row: the lower envelope of the parabolas (x - q)^2 + f(q),
+  // f(q) = the squared distance down column q to its nearest kept row; the
+  // parabola lowest at x names the column of x's nearest kept texel. Every
+  // value is an integer below 2^34, exact in a double.
+  OIIO::parallel_for(0, height, [&](int y) {
+    std::vector<int> site(static_cast<size_t>(width));
+    std::vector<double> from(static_cast<size_t>(width) + 1);
+    const auto f = [&](int q) {
+      const double d = double(y - kept_row[at(q, y)]);
+      return d * d + double(q) * q;
+    };
+    int k = -1;
+    for (int q = 0; q < width; ++q) {
+      if (kept_row[at(q, y)] < 0) continue;  // a column with nothing kept
+      double s = -HUGE_VAL;
+      while (k >= 0) {
+        s = (f(q) - f(site[size_t(k)])) / (2.0 * (q - site[size_t(k)]));
+        if (s > from[size_t(k)]) break;
+        --k;
+      }
+      if (k < 0) s = -HUGE_VAL;
+      ++k;
+      site[size_t(k)] = q;
+      from[size_t(k)] = s;
+    }
+    int j = 0;
+    for (int x = 0; x < width; ++x) {
+      while (j < k && from[size_t(j) + 1] <= x) ++j;
+      if (!empty[at(x, y)]) continue;
+      const int q = site[size_t(j)];
+      const uint8_t* src = pixels + at(q, kept_row[at(q, y)]) * texel_bytes;
+      std::copy(src, src + texel_bytes, pixels + at(x, y) * texel_bytes);
+    }
+  });
+}
+
 void flatten_empty_blocks(uint8_t* pixels, int width, int height, int channels, bool deep,
                           std::span<const uint8_t> empty, int block) {
   if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || block < 1 ||

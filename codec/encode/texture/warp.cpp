@@ -857,6 +857,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       if (options.empty_fill == EmptyFill::mean) std::copy(fill, fill + texel_bytes, base + i * texel_bytes);
       ++n_empty;
     }
+  if (options.empty_fill == EmptyFill::nearest) nearest_fill(base, W, H, nch, deep, empty);
   if (options.empty_fill == EmptyFill::pull_push) {
     pull_push_fill(base, W, H, nch, deep, empty);
     for (const int block : {16, 8}) flatten_empty_blocks(base, W, H, nch, deep, empty, block);

@@ -64,6 +64,10 @@ enum class EmptyFill : uint8_t {
   // Blocks of 16 and then 8 texels that are wholly empty are then made flat
   // (flatten_empty_blocks): no AC coefficients where nothing is sampled.
   pull_push,
+  // Each texel copies its nearest covered or gutter texel (nearest_fill in
+  // codec/encode/texture/atlas_fill.h): the gutter's dilation carried to the whole page,
+  // so no MIP level blends a patch's border with a foreign colour.
+  nearest,
 };
 
 struct WarpOptions {
