@@ -353,6 +353,46 @@ TEST(Warp, PullPushFillIsFlatOverEachWhollyEmptyBlock) {
   EXPECT_GT(block_colours.size(), 1u) << "the fill should vary from block to block";
 }
 
+// EmptyFill::nearest (PNG atlases): a viewer's MIP level L averages
+// 2^L x 2^L blocks, which reach past a 4-texel gutter from level 3 on.
+// Each block that meets one patch and not the other must then hold that
+// patch's colour alone; with the flat mean fill, blocks at level 4 mix
+// the mean into the patch's border (checked too, so the scene can fail).
+TEST(Warp, NearestFillKeepsEveryMipLevelOfAPatchBorderItsOwnColour) {
+  const RedBlueScene scene(128);
+  const int W = scene.W, H = scene.H;
+  const WarpPrimitive prims[2] = {scene.a.view(), scene.b.view()};
+  const auto mixed_blocks = [&](EmptyFill fill) {
+    WarpOptions opt;
+    opt.empty_fill = fill;
+    OIIO::ImageBuf out;
+    EXPECT_EQ(warp_texture(scene.src, prims, W, H, opt, out), WarpStatus::ok);
+    int mixed = 0, checked = 0;
+    for (int level = 1; level <= 4; ++level) {
+      const int n = 1 << level;
+      for (int y0 = 0; y0 < H; y0 += n)
+        for (int x0 = 0; x0 < W; x0 += n) {
+          // The patches' squares: red x in [4, 20), blue x in [28, 44), y in [8, 24).
+          const bool rows = y0 < 24 && y0 + n > 8;
+          const bool red = rows && x0 < 20 && x0 + n > 4, blue = rows && x0 < 44 && x0 + n > 28;
+          if (red == blue) continue;
+          ++checked;
+          bool pure = true;
+          for (int y = y0; y < y0 + n; ++y)
+            for (int x = x0; x < x0 + n; ++x) {
+              const uint8_t* p = texel(out, x, y);
+              pure = pure && p[0] == (red ? 255 : 0) && p[1] == 0 && p[2] == (red ? 0 : 255);
+            }
+          mixed += !pure;
+        }
+    }
+    EXPECT_GT(checked, 20);
+    return mixed;
+  };
+  EXPECT_EQ(mixed_blocks(EmptyFill::nearest), 0);
+  EXPECT_GT(mixed_blocks(EmptyFill::mean), 0);
+}
+
 // Normal maps: frames with the same normal, the new tangent turned by `a`.
 uint8_t enc(double v) { return uint8_t(std::lround((v * 0.5 + 0.5) * 255)); }
 

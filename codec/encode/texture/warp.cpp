@@ -819,7 +819,7 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
           if (srgb && is_color_channel(c, nch)) value[c] = linear_to_srgb(std::max(value[c], 0.0f));
         store(value);
       }
-      // Empty texels get written later (mean colour); copy the row now.
+      // Empty texels get written later (EmptyFill); copy the row now.
       uint8_t* base = static_cast<uint8_t*>(out.localpixels());
       const size_t row_bytes = size_t(W) * nch * (deep ? 2 : 1);
       std::copy(row_out.begin(), row_out.end(), base + size_t(y) * row_bytes);
@@ -839,8 +839,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
     report.fit_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - f0).count();
   }
 
-  // 4. Everything else: the mean covered colour, flat and cheap to compress
-  // as PNG; or, for JPEG, a pull-push fill (see EmptyFill).
+  // 4. Everything else, by EmptyFill: the mean covered colour, the nearest
+  // kept texel (PNG), or a pull-push fill (JPEG).
   uint8_t* base = static_cast<uint8_t*>(out.localpixels());
   const size_t texel_bytes = size_t(nch) * (deep ? 2 : 1);
   uint8_t fill[8] = {};

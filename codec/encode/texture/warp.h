@@ -60,13 +60,14 @@ enum class EmptyFill : uint8_t {
   // nearby patches. For JPEG: no step at patch outlines to spend
   // coefficients on: smaller JPEG atlases at the same or higher PSNR
   // (benchmarks/results/jpeg85: the corpus with its PNGs turned into JPEG
-  // q85). As PNG it costs more than the flat mean, so PNG keeps `mean`.
+  // q85). As PNG it costs more than the other two (the Fox: +27%).
   // Blocks of 16 and then 8 texels that are wholly empty are then made flat
   // (flatten_empty_blocks): no AC coefficients where nothing is sampled.
   pull_push,
   // Each texel copies its nearest covered or gutter texel (nearest_fill in
   // codec/encode/texture/atlas_fill.h): the gutter's dilation carried to the whole page,
-  // so no MIP level blends a patch's border with a foreign colour.
+  // so no MIP level blends a patch's border with a foreign colour. What
+  // the encoder writes as PNG.
   nearest,
 };
 
