@@ -175,6 +175,73 @@ TEST(AtlasFill, NearestFillCopiesANearestKeptTexel) {
   }
 }
 
+// With a reach: texels within it are nearest copies as above; farther
+// ones continue their row (a left neighbour's copy, a leading run the
+// row's first near texel), and rows with no near texel copy the row above
+// (at the top, the first row that has one). Kept texels in a band of
+// rows, so that rows above, below and between are wholly far.
+TEST(AtlasFill, NearestFillRunsAlongRowsBeyondItsReach) {
+  const int w = 61, h = 47;
+  const double reach = 3.5;
+  std::mt19937 rng(5);
+  const size_t n = size_t(w) * h;
+  std::vector<uint16_t> px(n * 2);
+  std::vector<uint8_t> empty(n, 1);
+  for (size_t i = 0; i < n; ++i) px[2 * i] = uint16_t(i & 0xFFFF), px[2 * i + 1] = uint16_t(i >> 16);
+  for (int y = 15; y < 22; ++y)  // rows 15-21 hold kept texels; 0-10 and 26-46 are beyond reach
+    for (int x = 20; x < w; ++x) empty[size_t(y) * w + x] = rng() % 9 != 0;
+  const std::vector<uint16_t> before = px;
+  nearest_fill(reinterpret_cast<uint8_t*>(px.data()), w, h, 2, true, empty, reach);
+  const auto id = [&](int x, int y) {
+    const size_t i = size_t(y) * w + x;
+    return size_t(px[2 * i]) | size_t(px[2 * i + 1]) << 16;
+  };
+  const auto d2 = [&](size_t a, size_t b) {
+    const long dx = long(a % size_t(w)) - long(b % size_t(w)), dy = long(a / size_t(w)) - long(b / size_t(w));
+    return dx * dx + dy * dy;
+  };
+  std::vector<long> best(n, -1);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t k = 0; k < n; ++k)
+      if (!empty[k] && (best[i] < 0 || d2(i, k) < best[i])) best[i] = d2(i, k);
+  const auto near = [&](int x, int y) { return double(best[size_t(y) * w + x]) <= reach * reach; };
+  int first_near_row = -1, wholly_far_rows = 0, runs = 0;
+  for (int y = 0; y < h; ++y) {
+    int first = -1;
+    for (int x = 0; x < w && first < 0; ++x)
+      if (near(x, y)) first = x;
+    if (first >= 0 && first_near_row < 0) first_near_row = y;
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (!empty[i]) {
+        ASSERT_EQ(id(x, y), i) << "kept texel changed";
+      } else if (near(x, y)) {
+        ASSERT_FALSE(empty[id(x, y)]) << x << "," << y;
+        ASSERT_EQ(d2(i, id(x, y)), best[i]) << x << "," << y;
+      } else if (first >= 0) {
+        ++runs;
+        ASSERT_EQ(id(x, y), x < first ? id(first, y) : id(x - 1, y)) << x << "," << y;
+      }
+    }
+    if (first < 0) {
+      ++wholly_far_rows;
+      const int from = y == 0 || first_near_row < 0 ? -1 : y - 1;
+      for (int x = 0; x < w; ++x) {
+        if (from >= 0) {
+          ASSERT_EQ(id(x, y), id(x, from)) << x << "," << y;
+        } else {
+          ASSERT_FALSE(empty[id(x, y)]) << x << "," << y << ": a top row holds a kept texel's copy";
+        }
+      }
+    }
+  }
+  EXPECT_GT(wholly_far_rows, 20);
+  EXPECT_GT(runs, 100);
+  // The top rows copy the first row with a near texel: check one column.
+  for (int y = 0; y < first_near_row; ++y) EXPECT_EQ(id(7, y), id(7, first_near_row)) << y;
+  EXPECT_NE(before, px);
+}
+
 // 8-bit RGB as the warp writes it: the copy is the whole texel; nothing
 // kept gives zeros; bad sizes leave the pixels as they were.
 TEST(AtlasFill, NearestFillCopiesWholeTexelsAndRefusesBadSizes) {

@@ -356,8 +356,10 @@ TEST(Warp, PullPushFillIsFlatOverEachWhollyEmptyBlock) {
 // EmptyFill::nearest (PNG atlases): a viewer's MIP level L averages
 // 2^L x 2^L blocks, which reach past a 4-texel gutter from level 3 on.
 // Each block that meets one patch and not the other must then hold that
-// patch's colour alone; with the flat mean fill, blocks at level 4 mix
-// the mean into the patch's border (checked too, so the scene can fail).
+// patch's colour alone. The nearest copies reach 8 texels (level 3's
+// block); in this scene the row runs beyond keep level 4 clean too. With
+// the flat mean fill, blocks at level 4 mix the mean into the patch's
+// border (checked too, so the scene can fail).
 TEST(Warp, NearestFillKeepsEveryMipLevelOfAPatchBorderItsOwnColour) {
   const RedBlueScene scene(128);
   const int W = scene.W, H = scene.H;

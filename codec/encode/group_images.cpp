@@ -115,10 +115,10 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
   c.warp.least_squares = options.least_squares_texels;
   c.mime = output_mime(bytes, options.image_format);
   // Block coders (JPEG, WebP's VP8) code a smooth fill in fewer bytes. PNG
-  // takes the nearest texel's copy: no MIP level tints a patch border with
-  // the fill, and flat art stays flat (smaller than the mean fill on five
-  // of six corpus models; the CesiumMilkTruck's detailed borders cost 6%
-  // more: benchmarks/results).
+  // takes nearest copies out to MIP level 3's reach and row runs beyond
+  // (EmptyFill::nearest): no level up to 3 tints a patch border with the
+  // fill, and the corpus's PNG atlases came out smaller than with the flat
+  // mean (benchmarks/results).
   c.warp.empty_fill = lossy_mime(c.mime) ? EmptyFill::pull_push : EmptyFill::nearest;
   c.warp.copy_exact_texels = !lossy_mime(c.mime);
   c.quality = options.image_quality;

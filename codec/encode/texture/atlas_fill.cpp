@@ -121,9 +121,10 @@ void pull_push_fill(uint8_t* pixels, int width, int height, int channels, bool d
 }
 
 void nearest_fill(uint8_t* pixels, int width, int height, int channels, bool deep,
-                  std::span<const uint8_t> empty) {
+                  std::span<const uint8_t> empty, double max_distance) {
   if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height)
     return;
+  std::vector<uint8_t> far(max_distance > 0 ? size_t(width) * height : 0, 0);
   const size_t texel_bytes = size_t(channels) * (deep ? 2 : 1);
   const auto at = [width](int x, int y) { return size_t(y) * size_t(width) + size_t(x); };
   if (std::all_of(empty.begin(), empty.end(), [](uint8_t e) { return e != 0; })) {
@@ -175,10 +176,47 @@ void nearest_fill(uint8_t* pixels, int width, int height, int channels, bool dee
       while (j < k && from[size_t(j) + 1] <= x) ++j;
       if (!empty[at(x, y)]) continue;
       const int q = site[size_t(j)];
+      if (max_distance > 0) {
+        const double dx = x - q, dy = y - kept_row[at(q, y)];
+        if (dx * dx + dy * dy > max_distance * max_distance) {
+          far[at(x, y)] = 1;
+          continue;
+        }
+      }
       const uint8_t* src = pixels + at(q, kept_row[at(q, y)]) * texel_bytes;
       std::copy(src, src + texel_bytes, pixels + at(x, y) * texel_bytes);
     }
   });
+  if (max_distance <= 0) return;
+  // Beyond max_distance: runs along rows (atlas_fill.h).
+  std::vector<uint8_t> whole(size_t(height), 0);
+  OIIO::parallel_for(0, height, [&](int y) {
+    int first = -1;
+    for (int x = 0; x < width; ++x)
+      if (!far[at(x, y)]) {
+        first = x;
+        break;
+      }
+    if (first < 0) {
+      whole[size_t(y)] = 1;
+      return;
+    }
+    for (int x = 0; x < width; ++x) {
+      if (!far[at(x, y)]) continue;
+      const int from = x == 0 || x < first ? first : x - 1;
+      std::copy(pixels + at(from, y) * texel_bytes, pixels + at(from, y) * texel_bytes + texel_bytes,
+                pixels + at(x, y) * texel_bytes);
+    }
+  });
+  int lead = 0;
+  while (lead < height && whole[size_t(lead)]) ++lead;
+  for (int y = 0; y < height; ++y) {
+    if (!whole[size_t(y)]) continue;
+    const int from = y < lead ? lead : y - 1;
+    std::copy(pixels + at(0, from) * texel_bytes,
+              pixels + at(0, from) * texel_bytes + size_t(width) * texel_bytes,
+              pixels + at(0, y) * texel_bytes);
+  }
 }
 
 void flatten_empty_blocks(uint8_t* pixels, int width, int height, int channels, bool deep,

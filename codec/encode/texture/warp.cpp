@@ -857,7 +857,11 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
       if (options.empty_fill == EmptyFill::mean) std::copy(fill, fill + texel_bytes, base + i * texel_bytes);
       ++n_empty;
     }
-  if (options.empty_fill == EmptyFill::nearest) nearest_fill(base, W, H, nch, deep, empty);
+  if (options.empty_fill == EmptyFill::nearest) {
+    // Distances are from the kept texels, the gutter's outer ring among them.
+    const double beyond_gutter = std::max(1.0, double(options.nearest_reach) - double(options.gutter));
+    nearest_fill(base, W, H, nch, deep, empty, beyond_gutter);
+  }
   if (options.empty_fill == EmptyFill::pull_push) {
     pull_push_fill(base, W, H, nch, deep, empty);
     for (const int block : {16, 8}) flatten_empty_blocks(base, W, H, nch, deep, empty, block);

@@ -64,10 +64,12 @@ enum class EmptyFill : uint8_t {
   // Blocks of 16 and then 8 texels that are wholly empty are then made flat
   // (flatten_empty_blocks): no AC coefficients where nothing is sampled.
   pull_push,
-  // Each texel copies its nearest covered or gutter texel (nearest_fill in
-  // codec/encode/texture/atlas_fill.h): the gutter's dilation carried to the whole page,
-  // so no MIP level blends a patch's border with a foreign colour. What
-  // the encoder writes as PNG.
+  // Each texel within WarpOptions::nearest_reach of a patch copies its
+  // nearest covered or gutter texel, and farther ones run along their row
+  // (nearest_fill in codec/encode/texture/atlas_fill.h): the gutter's
+  // dilation carried as far as the MIP levels in play reach, so none of
+  // them blends a patch's border with a foreign colour, at about the bytes
+  // of the flat mean. What the encoder writes as PNG.
   nearest,
 };
 
@@ -81,7 +83,13 @@ struct WarpOptions {
   uint32_t page = 0;                       // which atlas page to produce
   uint32_t gutter = 4;                     // fill texels up to this many texels from a patch by dilation
   EmptyFill empty_fill = EmptyFill::mean;  // the texels beyond the gutters
-  float anisotropy = 16;                   // max anisotropy of the filtered lookup
+  // EmptyFill::nearest: how far from a patch, in texels, the nearest copies
+  // reach. 8 is MIP level 3's block, the deepest level that 1024-px views
+  // of whole corpus models sample much (benchmarks/results: render_by_mip);
+  // reaching 16 (level 4) cost the CesiumMilkTruck 2.7% more bytes for
+  // +0.1 dB in its 256-px views.
+  uint32_t nearest_reach = 8;
+  float anisotropy = 16;  // max anisotropy of the filtered lookup
   bool bicubic =
       false;  // bicubic (OIIO: a smoothing B-spline) when magnifying; false: bilinear, what viewers show
   // Where the atlas does not minify the source (footprint <= 1 source texel),
