@@ -148,8 +148,10 @@ void nearest_fill(uint8_t* pixels, int width, int height, int channels, bool dee
   });
   // Pass 2, per row: the lower envelope of the parabolas (x - q)^2 + f(q),
   // f(q) = the squared distance down column q to its nearest kept row; the
-  // parabola lowest at x names the column of x's nearest kept texel. Every
-  // value is an integer below 2^34, exact in a double.
+  // parabola lowest at x names the column of x's nearest kept texel. The
+  // f values are integers below 2^33, exact in a double; an intersection is
+  // a ratio with a denominator below 2^18, so where it is not an integer it
+  // lies at least 2^-18 from every x, far beyond a double's rounding.
   OIIO::parallel_for(0, height, [&](int y) {
     std::vector<int> site(static_cast<size_t>(width));
     std::vector<double> from(static_cast<size_t>(width) + 1);
