@@ -135,7 +135,7 @@ TEST(AtlasFill, FlattensOnlyWhollyEmptyBlocksToTheirMean) {
 // pages, where the column pass alone or the row pass alone decides.
 TEST(AtlasFill, NearestFillCopiesANearestKeptTexel) {
   std::mt19937 rng(11);
-  for (const auto [w, h, keep_one_in] : {std::array<int, 3>{1, 1, 1},
+  for (const std::array<int, 3>& page : {std::array<int, 3>{1, 1, 1},
                                          {1, 40, 7},
                                          {40, 1, 7},
                                          {2, 33, 5},
@@ -143,6 +143,9 @@ TEST(AtlasFill, NearestFillCopiesANearestKeptTexel) {
                                          {64, 48, 50},
                                          {97, 61, 400},
                                          {50, 50, 100000}}) {
+    // Named values, not a structured binding: the lambda below captures
+    // them (clang before 16 cannot capture a binding).
+    const int w = page[0], h = page[1], keep_one_in = page[2];
     SCOPED_TRACE(std::to_string(w) + "x" + std::to_string(h) + ", one in " + std::to_string(keep_one_in));
     const size_t n = size_t(w) * h;
     std::vector<uint16_t> px(n * 2);
