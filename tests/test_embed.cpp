@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -386,6 +387,154 @@ TEST(Embed, PatchesStayInsideSourceCharts) {
   expect_guarantees(m, both, opt.tau);
   EXPECT_LE(worst_patch_density_ratio(both, density), opt.max_density_ratio * (1 + 1e-9));
   one_chart_per_patch(both);
+}
+
+// The seam edges of a mesh under source UVs, each with its two faces and
+// the two faces' UVs at its ends (a0, a1 in face f; b0, b1 in face g, a0
+// and b0 at one vertex).
+struct SeamEdge {
+  uint32_t f, g;
+  Uv a0, a1, b0, b1;
+};
+std::vector<SeamEdge> seam_edges(const TriMesh& m, std::span<const float> uv) {
+  const std::vector<uint32_t> opp = build_opposite_corners(m, build_vertex_faces(m));
+  const auto uv_at = [&](uint32_t f, uint32_t v) {
+    const uint32_t* t = &m.indices[3 * size_t{f}];
+    const size_t c = 3 * size_t{f} + (t[0] == v ? 0 : t[1] == v ? 1 : 2);
+    return Uv{uv[2 * c], uv[2 * c + 1]};
+  };
+  std::vector<SeamEdge> out;
+  for (size_t c = 0; c < opp.size(); ++c) {
+    if (opp[c] == kNone || opp[c] < c) continue;
+    const uint32_t f = uint32_t(c / 3), g = opp[c] / 3, k = uint32_t(c % 3);
+    const uint32_t va = m.indices[3 * size_t{f} + (k + 1) % 3], vb = m.indices[3 * size_t{f} + (k + 2) % 3];
+    SeamEdge e{f, g, uv_at(f, va), uv_at(f, vb), uv_at(g, va), uv_at(g, vb)};
+    if (e.a0 != e.b0 || e.a1 != e.b1) out.push_back(e);
+  }
+  return out;
+}
+
+// A unit cube UV-mapped as a cross-shaped net in a 4 x 3 grid of cells
+// (top; left, front, right, back; bottom), like MultiUVTest's: the net's
+// five fold edges join faces, its seven cut edges are seams with one chart
+// on both sides. `image`: each face's cell its own colour, the two unused
+// cells mid grey, sampled clamped.
+struct CubeNet {
+  TriMesh mesh;
+  std::vector<float> corner_uv;
+  std::vector<TextureSampler> image{1};
+};
+CubeNet make_cube_net() {
+  CubeNet net;
+  for (int i = 0; i < 8; ++i)
+    for (int k = 0; k < 3; ++k) net.mesh.positions.push_back(float((i >> k) & 1));
+  using P = std::array<int, 3>;
+  // Each face: its corners counter-clockwise from outside, and the UV of a point.
+  struct Face {
+    std::array<P, 4> corners;
+    std::function<Uv(double x, double y, double z)> uv;
+  };
+  const auto cell = [](double u, double v) { return Uv{float(u / 4), float(v / 3)}; };
+  const std::vector<Face> faces = {
+      {{P{0, 0, 1}, P{1, 0, 1}, P{1, 1, 1}, P{0, 1, 1}},
+       [&](double x, double y, double) { return cell(1 + x, 2 - y); }},
+      {{P{0, 0, 0}, P{0, 0, 1}, P{0, 1, 1}, P{0, 1, 0}},
+       [&](double, double y, double z) { return cell(z, 2 - y); }},
+      {{P{1, 0, 1}, P{1, 0, 0}, P{1, 1, 0}, P{1, 1, 1}},
+       [&](double, double y, double z) { return cell(3 - z, 2 - y); }},
+      {{P{1, 0, 0}, P{0, 0, 0}, P{0, 1, 0}, P{1, 1, 0}},
+       [&](double x, double y, double) { return cell(4 - x, 2 - y); }},
+      {{P{0, 1, 1}, P{1, 1, 1}, P{1, 1, 0}, P{0, 1, 0}},
+       [&](double x, double, double z) { return cell(1 + x, z); }},
+      {{P{0, 0, 0}, P{1, 0, 0}, P{1, 0, 1}, P{0, 0, 1}},
+       [&](double x, double, double z) { return cell(1 + x, 3 - z); }},
+  };
+  for (const Face& f : faces)
+    for (const std::array<int, 3> tri : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}})
+      for (int k : tri) {
+        const P& p = f.corners[size_t(k)];
+        net.mesh.indices.push_back(uint32_t(p[0] | p[1] << 1 | p[2] << 2));
+        const Uv uv = f.uv(p[0], p[1], p[2]);
+        net.corner_uv.push_back(uv[0]);
+        net.corner_uv.push_back(uv[1]);
+      }
+  // Cell colours (column, row): grey where no face lies.
+  const uint8_t colour[3][4][3] = {{{128, 128, 128}, {250, 250, 250}, {128, 128, 128}, {128, 128, 128}},
+                                   {{40, 200, 40}, {220, 30, 30}, {30, 60, 220}, {230, 210, 20}},
+                                   {{128, 128, 128}, {10, 10, 10}, {128, 128, 128}, {128, 128, 128}}};
+  OIIO::ImageBuf img(OIIO::ImageSpec(64, 48, 3, OIIO::TypeDesc::UINT8));
+  auto* px = static_cast<uint8_t*>(img.localpixels());
+  for (int y = 0; y < 48; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c) px[(size_t(y) * 64 + x) * 3 + c] = colour[y / 16][x / 16][c];
+  load_texture_sampler(img, false, 33071, 33071, {1, 0, 0, 0, 1, 0}, net.image[0]);
+  return net;
+}
+
+// A slit (a seam with one chart on both sides) across which the texture
+// steps by more than kSlitCrossable cuts its chart, so that no patch
+// crosses it: the cube net's seven cut edges, where MultiUVTest's patches
+// bled each face's colour over its neighbour's. A split is kept only where
+// each part holds at least 5% of the chart's area: on a tube, whose slit's
+// far side breadth-first growth leaves as single triangles, the chart stays
+// whole. So does every chart where the texture hides its seams, or with the
+// rule left off.
+TEST(Embed, MarkedSlitsCutTheirChart) {
+  const auto chart_count = [](const std::vector<uint32_t>& chart) {
+    return chart.empty() ? 0u : *std::max_element(chart.begin(), chart.end()) + 1;
+  };
+  const CubeNet net = make_cube_net();
+  const TriMesh& m = net.mesh;
+  const SeamTest hidden = texture_seam_test(net.image),
+                 crossable = texture_seam_test(net.image, kSlitCrossable);
+  const std::vector<SeamEdge> seams = seam_edges(m, net.corner_uv);
+  ASSERT_EQ(seams.size(), 7u) << "the net's cut edges";
+  for (const SeamEdge& e : seams) {
+    ASSERT_FALSE(hidden(e.a0, e.a1, e.b0, e.b1)) << "faces " << e.f << ", " << e.g;
+    ASSERT_FALSE(crossable(e.a0, e.a1, e.b0, e.b1)) << "faces " << e.f << ", " << e.g;
+  }
+  EXPECT_EQ(chart_count(source_charts(m, net.corner_uv, hidden)), 1u)
+      << "without the rule: one chart, 7 slits";
+  const std::vector<uint32_t> chart = source_charts(m, net.corner_uv, hidden, crossable);
+  ASSERT_EQ(chart.size(), m.face_count());
+  EXPECT_GE(chart_count(chart), 2u);
+  for (uint32_t f = 0; f < m.face_count(); ++f)  // numbered by lowest face
+    EXPECT_LE(chart[f], f == 0 ? 0u : *std::max_element(chart.begin(), chart.begin() + f) + 1);
+  for (const SeamEdge& e : seams) EXPECT_NE(chart[e.f], chart[e.g]) << "faces " << e.f << ", " << e.g;
+  // The partition then keeps every cut edge as a patch boundary.
+  EmbedOptions opt;
+  opt.face_chart = chart;
+  const Embedding em = embed(m, opt);
+  expect_guarantees(m, em, opt.tau);
+  for (const SeamEdge& e : seams) EXPECT_NE(em.patch_of_face[e.f], em.patch_of_face[e.g]);
+  EXPECT_TRUE(std::any_of(seams.begin(), seams.end(), [&](const SeamEdge& e) {
+    return embed(m).patch_of_face[e.f] == embed(m).patch_of_face[e.g];
+  })) << "the scene: without charts some patch crosses a cut edge";
+
+  // The tube: its slit's step is marked, but the split would leave slivers.
+  OIIO::ImageBuf img(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
+  auto* px = static_cast<uint8_t*>(img.localpixels());
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x)
+      for (int c = 0; c < 3; ++c)
+        px[(size_t(y) * 64 + x) * 3 + c] = uint8_t(x * 4);  // 252 levels across the slit
+  std::vector<TextureSampler> ramp(1);  // clamped: a repeat would blend both ends at the slit
+  load_texture_sampler(img, false, 33071, 33071, {1, 0, 0, 0, 1, 0}, ramp[0]);
+  const ShapeMesh tube = make_cylinder_open(8, 6);
+  const std::vector<SeamEdge> slit = seam_edges(tube.mesh, tube.corner_uv);
+  ASSERT_EQ(slit.size(), 6u) << "one slit edge per ring";
+  const SeamTest on_ramp = texture_seam_test(ramp, kSlitCrossable);
+  for (const SeamEdge& e : slit) ASSERT_FALSE(on_ramp(e.a0, e.a1, e.b0, e.b1));
+  EXPECT_EQ(chart_count(source_charts(tube.mesh, tube.corner_uv, texture_seam_test(ramp), on_ramp)), 1u);
+
+  // A flat texture hides the net's seams: one chart, cut rule or not.
+  OIIO::ImageBuf flat(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8));
+  std::fill_n(static_cast<uint8_t*>(flat.localpixels()), 8 * 8 * 3, uint8_t(90));
+  std::vector<TextureSampler> same(1);
+  load_texture_sampler(flat, false, 10497, 10497, {1, 0, 0, 0, 1, 0}, same[0]);
+  EXPECT_EQ(chart_count(source_charts(m, net.corner_uv, texture_seam_test(same),
+                                      texture_seam_test(same, kSlitCrossable))),
+            1u);
 }
 
 // A seam the texture hides (the same colours on both sides) does not bound

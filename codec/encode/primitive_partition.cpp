@@ -95,9 +95,10 @@ PreparedPartition prepare_partition(const PrimitiveGeometry& geom, std::span<con
     // Fox 176 -> 143, 20.8 -> 23.4 KB, 39.6 -> 40.0; CesiumMilkTruck
     // 711 -> 640, 278 -> 289 KB at 38.5. The same at tolerances from 1/4
     // to 8/32: the seams crossed are ones where both sides show one colour.
-    out.face_chart =
-        source_charts(out.tri, out.source_uv,
-                      context.seam_textures.empty() ? SeamTest() : texture_seam_test(context.seam_textures));
+    const bool textures = !context.seam_textures.empty();
+    out.face_chart = source_charts(
+        out.tri, out.source_uv, textures ? texture_seam_test(context.seam_textures) : SeamTest(),
+        textures ? texture_seam_test(context.seam_textures, kSlitCrossable) : SeamTest());
   }
   // With texel reuse, faces that repeat source texels get copy patches the
   // packer can land on their originals (twin_partition.h).

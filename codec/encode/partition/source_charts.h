@@ -3,6 +3,9 @@
 // crosses a source UV seam puts texels of two unrelated source regions side
 // by side, and the viewer's bilinear filter blends them along the seam; the
 // partition keeps each patch inside one chart instead (EmbedOptions::face_chart).
+// A seam with one chart on both sides (a slit: a cylinder's, the unjoined
+// edges of a cube net) may cut that chart in two, so that no patch crosses
+// it either.
 #pragma once
 
 #include <array>
@@ -26,9 +29,16 @@ using SeamTest = std::function<bool(Uv a0, Uv a1, Uv b0, Uv b1)>;
 // Chart id per face, numbered 0, 1, ... in order of each chart's lowest face.
 // source_uv holds 2 floats per corner (6 per face); UVs compare bit for bit,
 // as the source's shared vertices give equal floats and a seam does not.
-// With `seamless`, faces also join across the seam edges it accepts.
+// With `seamless`, faces also join across the seam edges it accepts. With
+// `slit_crossable`, every seam edge it refuses (and `seamless` too) has
+// different charts on its two sides: a chart grows breadth-first from its
+// lowest face and leaves out a face across such a seam from it, which then
+// goes to a later chart. The cut costs seams where the chart is split, so
+// the encoder cuts only seams with a marked step (kSlitCrossable in
+// seam_continuity.h). Without it, a chart may hold both sides of a seam.
 // Requires valid indices (mesh_indices_valid).
 std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv,
-                                    const SeamTest& seamless = nullptr);
+                                    const SeamTest& seamless = nullptr,
+                                    const SeamTest& slit_crossable = nullptr);
 
 }  // namespace gltfwarp
