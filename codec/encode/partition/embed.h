@@ -59,8 +59,10 @@ struct EmbedOptions {
   // shrink at the quality floor (patches no longer blur decals and panel
   // edges, so the adaptive density halves more of them), for a few more
   // seams on some models (figures: benchmarks/results/results.md, images
-  // and patches columns). Seams inside one chart (a chart cut by a slit,
-  // like a cylinder's) are not enforced.
+  // and patches columns). A seam with one chart on both sides (a slit) is
+  // a chart boundary only where source_charts split the chart at it (a
+  // marked colour step, and parts that stay large); elsewhere a patch may
+  // cross it.
   std::span<const uint32_t> face_chart;
   // Compact: after the partition, merge adjacent patches into patches laid
   // out by the solve method (format 1.2, solve_merge.h) where the decoder's

@@ -124,13 +124,13 @@ void nearest_fill(uint8_t* pixels, int width, int height, int channels, bool dee
                   std::span<const uint8_t> empty, double max_distance) {
   if (width <= 0 || height <= 0 || channels <= 0 || channels > 8 || empty.size() != size_t(width) * height)
     return;
-  std::vector<uint8_t> far(max_distance > 0 ? size_t(width) * height : 0, 0);
   const size_t texel_bytes = size_t(channels) * (deep ? 2 : 1);
   const auto at = [width](int x, int y) { return size_t(y) * size_t(width) + size_t(x); };
   if (std::all_of(empty.begin(), empty.end(), [](uint8_t e) { return e != 0; })) {
     std::fill(pixels, pixels + size_t(width) * height * texel_bytes, uint8_t(0));
     return;
   }
+  std::vector<uint8_t> far(max_distance > 0 ? size_t(width) * height : 0, 0);
   // Pass 1, per column: the nearest kept row in that column (-1: none).
   std::vector<int32_t> kept_row(size_t(width) * height, -1);
   OIIO::parallel_for(0, width, [&](int x) {
