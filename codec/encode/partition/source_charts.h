@@ -30,11 +30,13 @@ using SeamTest = std::function<bool(Uv a0, Uv a1, Uv b0, Uv b1)>;
 // source_uv holds 2 floats per corner (6 per face); UVs compare bit for bit,
 // as the source's shared vertices give equal floats and a seam does not.
 // With `seamless`, faces also join across the seam edges it accepts. With
-// `slit_crossable`, every seam edge it refuses (and `seamless` too) has
-// different charts on its two sides: a chart grows breadth-first from its
-// lowest face and leaves out a face across such a seam from it, which then
-// goes to a later chart. The cut costs seams where the chart is split, so
-// the encoder cuts only seams with a marked step (kSlitCrossable in
+// `slit_crossable`, a chart holding both sides of a seam edge it refuses
+// (and `seamless` too) is split: parts grow breadth-first from their lowest
+// face and leave out a face across such a seam, which then goes to a later
+// part. The split is kept only where every part holds at least 5% of the
+// chart's 3D area (breadth-first growth can leave slivers); otherwise the
+// chart stays whole. The cut costs seams where the chart is split, so the
+// encoder cuts only seams with a marked step (kSlitCrossable in
 // seam_continuity.h). Without it, a chart may hold both sides of a seam.
 // Requires valid indices (mesh_indices_valid).
 std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv,
