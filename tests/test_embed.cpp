@@ -474,11 +474,11 @@ CubeNet make_cube_net() {
 // A slit (a seam with one chart on both sides) across which the texture
 // steps by more than kSlitCrossable cuts its chart, so that no patch
 // crosses it: the cube net's seven cut edges, where MultiUVTest's patches
-// bled each face's colour over its neighbour's. A split is kept only where
-// each part holds at least 5% of the chart's area: on a tube, whose slit's
-// far side breadth-first growth leaves as single triangles, the chart stays
-// whole. So does every chart where the texture hides its seams, or with the
-// rule left off.
+// bled each face's colour over its neighbour's. On a tube, breadth-first
+// growth would leave the slit's far side as single triangles; the parts
+// grow from both sides of the slit instead, into halves. A split whose
+// added seams would be far longer than its slit is refused, and so is one
+// where the texture hides the seams, or with the rule left off.
 TEST(Embed, MarkedSlitsCutTheirChart) {
   const auto chart_count = [](const std::vector<uint32_t>& chart) {
     return chart.empty() ? 0u : *std::max_element(chart.begin(), chart.end()) + 1;
@@ -512,7 +512,8 @@ TEST(Embed, MarkedSlitsCutTheirChart) {
     return chartless.patch_of_face[e.f] == chartless.patch_of_face[e.g];
   })) << "the scene: without charts some patch crosses a cut edge";
 
-  // The tube: its slit's step is marked, but the split would leave slivers.
+  // The tube: its slit's step is marked. Refused faces would leave its far
+  // side as slivers, so it grows from both sides of the slit: two halves.
   OIIO::ImageBuf img(OIIO::ImageSpec(64, 64, 3, OIIO::TypeDesc::UINT8));
   auto* px = static_cast<uint8_t*>(img.localpixels());
   for (int y = 0; y < 64; ++y)
@@ -526,7 +527,20 @@ TEST(Embed, MarkedSlitsCutTheirChart) {
   ASSERT_EQ(slit.size(), 6u) << "one slit edge per ring";
   const SeamTest on_ramp = texture_seam_test(ramp, kSlitCrossable);
   for (const SeamEdge& e : slit) ASSERT_FALSE(on_ramp(e.a0, e.a1, e.b0, e.b1));
-  EXPECT_EQ(chart_count(source_charts(tube.mesh, tube.corner_uv, texture_seam_test(ramp), on_ramp)), 1u);
+  const std::vector<uint32_t> halves =
+      source_charts(tube.mesh, tube.corner_uv, texture_seam_test(ramp), on_ramp);
+  ASSERT_EQ(chart_count(halves), 2u);
+  for (const SeamEdge& e : slit) EXPECT_NE(halves[e.f], halves[e.g]);
+  double half_area[2] = {0, 0}, tube_area = 0;
+  for (uint32_t f = 0; f < tube.mesh.face_count(); ++f) {
+    half_area[halves[f]] += face_area3(tube.mesh, f);
+    tube_area += face_area3(tube.mesh, f);
+  }
+  for (const double a : half_area) EXPECT_NEAR(a / tube_area, 0.5, 0.1);
+  // Only the lowest ring's slit edge refused: splitting the tube for it
+  // would add seams far longer than that edge, so the tube stays whole.
+  const SeamTest lowest_ring = [](Uv a0, Uv a1, Uv, Uv) { return std::max(a0[1], a1[1]) > 1.5f / 6; };
+  EXPECT_EQ(chart_count(source_charts(tube.mesh, tube.corner_uv, texture_seam_test(ramp), lowest_ring)), 1u);
 
   // A flat texture hides the net's seams: one chart, cut rule or not.
   OIIO::ImageBuf flat(OIIO::ImageSpec(8, 8, 3, OIIO::TypeDesc::UINT8));

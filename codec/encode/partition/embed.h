@@ -61,8 +61,8 @@ struct EmbedOptions {
   // seams on some models (figures: benchmarks/results/results.md, images
   // and patches columns). A seam with one chart on both sides (a slit) is
   // a chart boundary only where source_charts split the chart at it (a
-  // marked colour step, and parts that stay large); elsewhere a patch may
-  // cross it.
+  // marked colour step, parts that stay large, and added seams not much
+  // longer than the slits); elsewhere a patch may cross it.
   std::span<const uint32_t> face_chart;
   // Compact: after the partition, merge adjacent patches into patches laid
   // out by the solve method (format 1.2, solve_merge.h) where the decoder's
