@@ -537,6 +537,24 @@ TEST(Embed, MarkedSlitsCutTheirChart) {
     tube_area += face_area3(tube.mesh, f);
   }
   for (const double a : half_area) EXPECT_NEAR(a / tube_area, 0.5, 0.1);
+  // The same tube in two source charts, a quarter and the rest, moved apart
+  // in v: the ramp (in u only) hides the seam between them, so one chart
+  // joins them and holds the slit. Its split follows the source's own seam,
+  // not the line where two fronts would meet (opposite the slit).
+  std::vector<float> two_uv = tube.corner_uv;
+  std::vector<uint8_t> quarter(tube.mesh.face_count());
+  for (uint32_t f = 0; f < tube.mesh.face_count(); ++f) {
+    float* uv = &two_uv[6 * size_t{f}];
+    quarter[f] = (uv[0] + uv[2] + uv[4]) / 3 < 0.25f;
+    for (int k = 0; k < 3; ++k) uv[2 * k + 1] = uv[2 * k + 1] * 0.5f + (quarter[f] ? 0.0f : 0.5f);
+  }
+  EXPECT_EQ(chart_count(source_charts(tube.mesh, two_uv, texture_seam_test(ramp))), 1u)
+      << "the seam between the source's charts is hidden";
+  const std::vector<uint32_t> own = source_charts(tube.mesh, two_uv, texture_seam_test(ramp), on_ramp);
+  ASSERT_EQ(chart_count(own), 2u);
+  for (uint32_t f = 0; f < tube.mesh.face_count(); ++f)
+    EXPECT_EQ(own[f] == own[0], quarter[f] == quarter[0]) << "face " << f;
+
   // Only the lowest ring's slit edge refused: splitting the tube for it
   // would add seams far longer than that edge, so the tube stays whole.
   const SeamTest lowest_ring = [](Uv a0, Uv a1, Uv, Uv) { return std::max(a0[1], a1[1]) > 1.5f / 6; };

@@ -87,7 +87,7 @@ std::vector<uint32_t> grow_from_slit_sides(const TriMesh& mesh, std::span<const 
     const uint32_t f = queue[q];
     for (uint32_t k = 0; k < 3; ++k) {
       const size_t c = 3 * size_t{f} + k;
-      if (edge[c] != kEdgeJoined || front[opp[c] / 3] != kNone) continue;
+      if (!joins(edge[c]) || front[opp[c] / 3] != kNone) continue;
       front[opp[c] / 3] = front[f];
       queue.push_back(opp[c] / 3);
     }
@@ -104,7 +104,7 @@ std::vector<uint32_t> grow_from_slit_sides(const TriMesh& mesh, std::span<const 
       const uint32_t f = queue[q];
       for (uint32_t k = 0; k < 3; ++k) {
         const size_t c = 3 * size_t{f} + k;
-        if (edge[c] != kEdgeJoined) continue;
+        if (!joins(edge[c])) continue;
         const uint32_t g = opp[c] / 3;
         if (part[g] != kNone || front[g] != front[f]) continue;
         part[g] = parts;
@@ -144,7 +144,7 @@ std::vector<uint32_t> absorb_small_parts(const TriMesh& mesh, std::span<const ui
     std::vector<Piece> pieces;
     for (size_t c = 0; c < edge.size(); ++c) {
       const uint32_t o = opp[c];
-      if (o == kNone || o < c || (edge[c] != kEdgeJoined && edge[c] != kEdgeCut)) continue;
+      if (o == kNone || o < c || (!joins(edge[c]) && edge[c] != kEdgeCut)) continue;
       const uint32_t p = find(part[c / 3]), q = find(part[o / 3]);
       if (p != q)
         pieces.push_back(

@@ -15,9 +15,11 @@
 namespace gltfwarp {
 
 // Per corner, the edge opposite it: no neighbour, joined (the same UVs on
-// both sides, or a seam the texture hides), a seam it shows, or one that
-// must have two charts on its sides (slit_crossable refuses it).
-enum ChartEdge : uint8_t { kEdgeOpen, kEdgeJoined, kEdgeShown, kEdgeCut };
+// both sides), hidden (a seam the texture hides, which charts also join
+// across), a seam it shows, or one that must have two charts on its sides
+// (slit_crossable refuses it).
+enum ChartEdge : uint8_t { kEdgeOpen, kEdgeJoined, kEdgeHidden, kEdgeShown, kEdgeCut };
+inline bool joins(uint8_t edge) { return edge == kEdgeJoined || edge == kEdgeHidden; }
 
 // The 3D length of the edge opposite corner c.
 double opposite_edge_length(const TriMesh& mesh, size_t c);

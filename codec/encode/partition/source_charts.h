@@ -32,14 +32,16 @@ using SeamTest = std::function<bool(Uv a0, Uv a1, Uv b0, Uv b1)>;
 // With `seamless`, faces also join across the seam edges it accepts. With
 // `slit_crossable`, a chart holding both sides of a seam edge it refuses
 // (and `seamless` too) is split so that every such edge lies between two
-// parts. Parts first grow breadth-first from their lowest face, leaving out
-// a face across such a seam; where that leaves slivers, they grow from both
-// sides of the slits at once instead (a tube comes apart in halves). A split
-// is kept only where every part holds at least 3% of the chart's 3D area and
-// the seams it adds are at most 8 times as long as the slits it cuts;
-// otherwise the chart stays whole. The encoder cuts only seams with a marked
-// step (kSlitCrossable in seam_continuity.h). Without it, a chart may hold
-// both sides of a seam.
+// parts. Three ways are tried in turn: parts that grow breadth-first from
+// their lowest face and leave out a face across such a seam; the source's
+// own charts (not joined across hidden seams), split the same way; and
+// parts grown from both sides of the slits at once (a tube comes apart in
+// halves; chart_split.h). A way is kept only where every part holds at
+// least 3% of the chart's 3D area (of the source's own chart, for the
+// second) and the seams it adds are at most 8 times as long as the slits it
+// cuts; otherwise the chart stays whole. The encoder cuts only seams with a
+// marked step (kSlitCrossable in seam_continuity.h). Without it, a chart
+// may hold both sides of a seam.
 // Requires valid indices (mesh_indices_valid).
 std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> source_uv,
                                     const SeamTest& seamless = nullptr,
