@@ -94,26 +94,9 @@ std::vector<uint32_t> grow_from_slit_sides(const TriMesh& mesh, std::span<const 
   }
   // Parts: faces joined to each other and reached by the same front (or by
   // none, outside the retried charts).
-  std::vector<uint32_t> part(nf, kNone);
-  uint32_t parts = 0;
-  for (uint32_t seed = 0; seed < nf; ++seed) {
-    if (part[seed] != kNone) continue;
-    part[seed] = parts;
-    queue.assign(1, seed);
-    for (size_t q = 0; q < queue.size(); ++q) {
-      const uint32_t f = queue[q];
-      for (uint32_t k = 0; k < 3; ++k) {
-        const size_t c = 3 * size_t{f} + k;
-        if (!joins(edge[c])) continue;
-        const uint32_t g = opp[c] / 3;
-        if (part[g] != kNone || front[g] != front[f]) continue;
-        part[g] = parts;
-        queue.push_back(g);
-      }
-    }
-    ++parts;
-  }
-  return part;
+  return grow_components(nf, opp, [&](size_t c, uint32_t f, uint32_t g, uint32_t, const auto&) {
+    return joins(edge[c]) && front[g] == front[f];
+  });
 }
 
 std::vector<uint32_t> absorb_small_parts(const TriMesh& mesh, std::span<const uint32_t> opp,

@@ -8,9 +8,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "codec/core/mesh.h"
+#include "codec/core/topology.h"
 
 namespace gltfwarp {
 
@@ -20,6 +22,34 @@ namespace gltfwarp {
 // (slit_crossable refuses it).
 enum ChartEdge : uint8_t { kEdgeOpen, kEdgeJoined, kEdgeHidden, kEdgeShown, kEdgeCut };
 inline bool joins(uint8_t edge) { return edge == kEdgeJoined || edge == kEdgeHidden; }
+
+// Faces in components grown breadth-first, numbered by lowest face: from
+// each face not yet in one, growth crosses the edge opposite corner c of a
+// face f of component `id` into its neighbour g where
+// crosses(c, f, g, id, comp) holds (comp: the components so far). `opp` is
+// build_opposite_corners'.
+template <class Crosses>
+std::vector<uint32_t> grow_components(uint32_t face_count, std::span<const uint32_t> opp, Crosses crosses) {
+  std::vector<uint32_t> comp(face_count, kNone), queue;
+  for (uint32_t seed = 0, id = 0; seed < face_count; ++seed) {
+    if (comp[seed] != kNone) continue;
+    comp[seed] = id;
+    queue.assign(1, seed);
+    for (size_t q = 0; q < queue.size(); ++q) {
+      const uint32_t f = queue[q];
+      for (uint32_t k = 0; k < 3; ++k) {
+        const size_t c = 3 * size_t{f} + k;
+        if (opp[c] == kNone) continue;
+        const uint32_t g = opp[c] / 3;
+        if (comp[g] != kNone || !crosses(c, f, g, id, std::as_const(comp))) continue;
+        comp[g] = id;
+        queue.push_back(g);
+      }
+    }
+    ++id;
+  }
+  return comp;
+}
 
 // The 3D length of the edge opposite corner c.
 double opposite_edge_length(const TriMesh& mesh, size_t c);

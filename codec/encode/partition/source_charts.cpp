@@ -51,35 +51,17 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
   // each face's colour bled over its neighbour's, 46 dB surface PSNR).
   enum Growth { kWhole, kRefuseCut, kOwn, kOwnRefuseCut };
   const auto grow = [&](Growth how) {
-    std::vector<uint32_t> chart(nf, kNone), queue;
-    const auto cut_from = [&](uint32_t g, uint32_t id) {
-      for (uint32_t k = 0; k < 3; ++k) {
-        const size_t c = 3 * size_t{g} + k;
-        if (edge[c] == kEdgeCut && chart[opp[c] / 3] == id) return true;
+    const bool own = how == kOwn || how == kOwnRefuseCut;
+    const bool refuse = how == kRefuseCut || how == kOwnRefuseCut;
+    return grow_components(nf, opp, [&](size_t c, uint32_t, uint32_t g, uint32_t id, const auto& chart) {
+      if (own ? edge[c] != kEdgeJoined : !joins(edge[c])) return false;
+      if (!refuse) return true;
+      for (uint32_t k = 0; k < 3; ++k) {  // refused: a cut seam to this chart
+        const size_t e = 3 * size_t{g} + k;
+        if (edge[e] == kEdgeCut && chart[opp[e] / 3] == id) return false;
       }
-      return false;
-    };
-    uint32_t next = 0;
-    for (uint32_t seed = 0; seed < nf; ++seed) {
-      if (chart[seed] != kNone) continue;
-      const uint32_t id = next++;
-      chart[seed] = id;
-      queue.assign(1, seed);
-      for (size_t q = 0; q < queue.size(); ++q) {
-        const uint32_t f = queue[q];
-        for (uint32_t k = 0; k < 3; ++k) {
-          const size_t c = 3 * size_t{f} + k;
-          const bool own = how == kOwn || how == kOwnRefuseCut;
-          if (own ? edge[c] != kEdgeJoined : !joins(edge[c])) continue;
-          const uint32_t g = opp[c] / 3;
-          const bool refuse = how == kRefuseCut || how == kOwnRefuseCut;
-          if (chart[g] != kNone || (refuse && cut_from(g, id))) continue;
-          chart[g] = id;
-          queue.push_back(g);
-        }
-      }
-    }
-    return chart;
+      return true;
+    });
   };
   const std::vector<uint32_t> whole = grow(kWhole);
   if (!slit_crossable || std::find(edge.begin(), edge.end(), kEdgeCut) == edge.end()) return whole;
