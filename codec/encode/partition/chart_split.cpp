@@ -6,7 +6,6 @@
 #include <tuple>
 #include <utility>
 
-#include "codec/core/layout_report.h"
 #include "codec/core/topology.h"
 
 namespace gltfwarp {
@@ -101,6 +100,7 @@ std::vector<uint32_t> grow_from_slit_sides(const TriMesh& mesh, std::span<const 
 
 std::vector<uint32_t> absorb_small_parts(const TriMesh& mesh, std::span<const uint32_t> opp,
                                          std::span<const uint8_t> edge, std::span<const uint32_t> whole,
+                                         std::span<const double> face_area,
                                          std::span<const double> whole_area, std::vector<uint32_t> part,
                                          double min_share) {
   const uint32_t nf = mesh.face_count();
@@ -113,7 +113,7 @@ std::vector<uint32_t> absorb_small_parts(const TriMesh& mesh, std::span<const ui
   };
   std::vector<double> area(count, 0.0), floor(count, 0.0);
   for (uint32_t f = 0; f < nf; ++f) {
-    area[part[f]] += face_area3(mesh, f);
+    area[part[f]] += face_area[f];
     floor[part[f]] = min_share * whole_area[whole[f]];
   }
   // Boundary pieces between parts: (smaller root, larger root, length, cut).

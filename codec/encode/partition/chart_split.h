@@ -67,14 +67,15 @@ std::vector<uint32_t> grow_from_slit_sides(const TriMesh& mesh, std::span<const 
                                            std::span<const uint8_t> edge, std::span<const uint32_t> whole,
                                            std::span<const uint8_t> retry);
 
-// Merges each part below min_share of its chart's 3D area (whole_area, per
-// chart id) into the neighbouring part it shares the longest joined boundary
+// Merges each part below min_share of its chart's 3D area (face_area per
+// face, whole_area per chart id) into the neighbouring part it shares the longest joined boundary
 // with, where no cut edge lies between the two, until none can merge.
 // Fronts racing around a chart with many slits leave scraps where they
 // meet: the Fox's one chart comes out in 28 parts, 11 after merging.
 // Renumbered by lowest face.
 std::vector<uint32_t> absorb_small_parts(const TriMesh& mesh, std::span<const uint32_t> opp,
                                          std::span<const uint8_t> edge, std::span<const uint32_t> whole,
+                                         std::span<const double> face_area,
                                          std::span<const double> whole_area, std::vector<uint32_t> part,
                                          double min_share);
 

@@ -66,8 +66,11 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
   const std::vector<uint32_t> whole = grow(kWhole);
   if (!slit_crossable || std::find(edge.begin(), edge.end(), kEdgeCut) == edge.end()) return whole;
   const uint32_t whole_count = *std::max_element(whole.begin(), whole.end()) + 1;
-  std::vector<double> whole_area(whole_count, 0.0), slit_length(whole_count, 0.0);
-  for (uint32_t f = 0; f < nf; ++f) whole_area[whole[f]] += face_area3(mesh, f);
+  std::vector<double> face_area(nf), whole_area(whole_count, 0.0), slit_length(whole_count, 0.0);
+  for (uint32_t f = 0; f < nf; ++f) {
+    face_area[f] = face_area3(mesh, f);
+    whole_area[whole[f]] += face_area[f];
+  }
   for (size_t c = 0; c < edge.size(); ++c)
     if (edge[c] == kEdgeCut && opp[c] > c && whole[c / 3] == whole[opp[c] / 3])
       slit_length[whole[c / 3]] += opposite_edge_length(mesh, c);
@@ -94,8 +97,8 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
     std::vector<double> part_area(part_count, 0.0), within_area(within_count, 0.0),
         seam_length(whole_count, 0.0);
     for (uint32_t f = 0; f < nf; ++f) {
-      part_area[parts[f]] += face_area3(mesh, f);
-      within_area[within[f]] += face_area3(mesh, f);
+      part_area[parts[f]] += face_area[f];
+      within_area[within[f]] += face_area[f];
     }
     std::vector<uint8_t> ok(whole_count, 1);
     for (uint32_t f = 0; f < nf; ++f) {
@@ -130,7 +133,7 @@ std::vector<uint32_t> source_charts(const TriMesh& mesh, std::span<const float> 
     any_retry = any_retry || retry[w];
   }
   if (any_retry) {
-    ways.push_back(absorb_small_parts(mesh, opp, edge, whole, whole_area,
+    ways.push_back(absorb_small_parts(mesh, opp, edge, whole, face_area, whole_area,
                                       grow_from_slit_sides(mesh, opp, edge, whole, retry), kMinPartShare));
     fits.push_back(acceptable(ways.back(), whole));
   }
