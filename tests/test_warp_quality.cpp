@@ -58,10 +58,43 @@ TEST(WarpQuality, PointBudgetSpreadsOverFaces) {
   }
   const SurfaceUvs prims[] = {{uv, uv, {}}};
   const SurfaceError e = surface_error(a, a, prims, 100'000);
-  EXPECT_LE(e.values, 3u * 200'000);
-  EXPECT_GT(e.values, 3u * 20'000);
+  EXPECT_LE(e.points, 100'000u);
+  EXPECT_GT(e.points, 20'000u);
+  // 4000 faces of 32768 texels each, 64 x 64 points in full: the thinned
+  // points weigh as much as the full ones would.
+  EXPECT_NEAR(e.values, 3.0 * 4000 * 64 * 64, 1e-6 * e.values);
   EXPECT_EQ(e.psnr(), 99.0);
   EXPECT_EQ(surface_error(a, TextureSampler{}, prims).values, 0u) << "an unloaded sampler measures nothing";
+}
+
+// Where the error sits in a few faces, a measure over a point budget still
+// finds it: every face keeps some points. Skipping faces by a stride (as
+// the measure once did: every 85th face here) never visited these (faces
+// 1, 41, 81, ...) and read 99 dB.
+TEST(WarpQuality, ThinnedMeasureFindsErrorInFewFaces) {
+  TextureSampler a;
+  load_texture_sampler(checker(64, 2), false, 10497, 10497, {1, 0, 0, 0, 1, 0}, a);
+  std::vector<float> uv, moved;
+  for (int i = 0; i < 1000; ++i) {
+    // Each square at its own offset into the (repeating) checker, so that
+    // thinned points meet its edges at many phases, as on a real mesh.
+    const float du = float(i % 97) / 97, dv = float(i % 89) / 89;
+    const std::vector<float> s = square(du, dv), m = square(du + (i % 20 == 0 ? 1.0f / 64 : 0), dv);
+    uv.insert(uv.end(), s.begin(), s.end());
+    // Only the second face of every 20th square moves: faces 1, 41, 81, ...
+    moved.insert(moved.end(), s.begin(), s.begin() + 6);
+    moved.insert(moved.end(), m.begin() + 6, m.end());
+  }
+  const SurfaceUvs prims[] = {{uv, moved, {}}};
+  const SurfaceError full = surface_error(a, a, prims, 100'000'000),
+                     thinned = surface_error(a, a, prims, 50'000);
+  ASSERT_LT(full.psnr(), 40.0);
+  EXPECT_LT(thinned.points, full.points / 50);
+  EXPECT_NEAR(thinned.psnr(), full.psnr(), 0.5);
+  const MipQuality mip_full = mip_surface_error(a, a, prims, {100'000'000}),
+                   mip_thinned = mip_surface_error(a, a, prims, {50'000});
+  for (int l = 0; l < kMipLevels; ++l)
+    EXPECT_NEAR(mip_thinned.level[l].psnr(), mip_full.level[l].psnr(), 0.5) << "level " << l;
 }
 
 // Per-group errors (per patch in the encoder) add up to the total, and a

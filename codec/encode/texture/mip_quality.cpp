@@ -60,17 +60,17 @@ namespace {
 
 // PSNR over the worst groups holding `fraction` of the values.
 double worst_region_psnr(std::vector<SurfaceError> groups, double fraction) {
-  uint64_t total = 0;
+  double total = 0;
   for (const SurfaceError& g : groups) total += g.values;
-  if (total == 0) return 0;
+  if (!(total > 0)) return 0;
   std::sort(groups.begin(), groups.end(), [](const SurfaceError& a, const SurfaceError& b) {
-    return a.squared * double(b.values) > b.squared * double(a.values);  // highest MSE first
+    return a.squared * b.values > b.squared * a.values;  // highest MSE first
   });
   SurfaceError worst;
   for (const SurfaceError& g : groups) {
-    if (g.values == 0) continue;
+    if (!(g.values > 0)) continue;
     worst.add(g);
-    if (double(worst.values) >= fraction * double(total)) break;
+    if (worst.values >= fraction * total) break;
   }
   return worst.psnr();
 }
@@ -125,6 +125,7 @@ MipQuality mip_surface_error(std::span<const TextureSampler> schain, const Textu
   const FaceSampling sampling = sample_faces(prims, src_texels, options.max_points);
   const std::vector<SampledFace>& faces = sampling.faces;
   const std::vector<std::vector<int>>& side = sampling.side;
+  const std::vector<std::vector<double>>& weight = sampling.weight;
   std::vector<SurfaceError> measured(faces.size());
   std::vector<uint8_t> in_atlas(faces.size());
   for (int l = 0; l < kMipLevels; ++l) {
@@ -156,8 +157,10 @@ MipQuality mip_surface_error(std::span<const TextureSampler> schain, const Textu
             const double diff = 255.0 * (double(a[c]) - b[c]);
             face.squared += diff * diff;
           }
-          face.values += uint64_t(channels);
+          face.values += channels;
+          face.points++;
         });
+        face.squared *= weight[p][f], face.values *= weight[p][f];
       }
     });
     std::vector<SurfaceError> groups;

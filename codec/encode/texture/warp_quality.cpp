@@ -12,18 +12,20 @@
 namespace gltfwarp {
 
 double SurfaceError::psnr() const {
-  if (values == 0) return 0;
-  const double mse = squared / double(values);
+  if (!(values > 0)) return 0;
+  const double mse = squared / values;
   return mse > 0 ? std::min(99.0, 10.0 * std::log10(255.0 * 255.0 / mse)) : 99.0;
 }
 
 FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texels, uint64_t max_points) {
   FaceSampling out;
   out.side.resize(prims.size());
+  out.weight.resize(prims.size());
   uint64_t total = 0;
   for (size_t p = 0; p < prims.size(); ++p) {
     const size_t nf = std::min(prims[p].source_uv.size(), prims[p].atlas_uv.size()) / 6;
     out.side[p].resize(nf);
+    out.weight[p].assign(nf, 1.0);
     for (size_t f = 0; f < nf; ++f) {
       const int n =
           surface_points_per_side(face_area_texels(prims[p].source_uv, uint32_t(f), 1, 1) * source_texels);
@@ -31,10 +33,17 @@ FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texel
       total += uint64_t(n) * n;
     }
   }
-  const uint64_t stride = std::max<uint64_t>(1, (total + max_points - 1) / std::max<uint64_t>(1, max_points));
-  for (uint64_t p = 0, face_index = 0; p < prims.size(); ++p)
-    for (size_t f = 0; f < out.side[p].size(); ++f, ++face_index)
-      if (face_index % stride == 0) out.faces.push_back({uint32_t(p), uint32_t(f)});
+  if (total > max_points) {
+    const double shrink = std::sqrt(double(std::max<uint64_t>(1, max_points)) / double(total));
+    for (size_t p = 0; p < prims.size(); ++p)
+      for (size_t f = 0; f < out.side[p].size(); ++f) {
+        const int n = out.side[p][f], thinned = std::max(1, int(std::floor(n * shrink)));
+        out.side[p][f] = thinned;
+        out.weight[p][f] = double(n) * n / (double(thinned) * thinned);
+      }
+  }
+  for (uint32_t p = 0; p < prims.size(); ++p)
+    for (size_t f = 0; f < out.side[p].size(); ++f) out.faces.push_back({p, uint32_t(f)});
   return out;
 }
 
@@ -51,6 +60,7 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
   const FaceSampling sampling = sample_faces(prims, texels, max_points);
   const std::vector<SampledFace>& faces = sampling.faces;
   const std::vector<std::vector<int>>& side = sampling.side;
+  const std::vector<std::vector<double>>& weight = sampling.weight;
   std::vector<SurfaceError> measured(faces.size());
   OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
     std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));
@@ -67,8 +77,10 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
           const double diff = 255.0 * (double(a[c]) - b[c]);
           face.squared += diff * diff;
         }
-        face.values += uint64_t(channels);
+        face.values += channels;
+        face.points++;
       });
+      face.squared *= weight[p][f], face.values *= weight[p][f];
     }
   });
   for (size_t i = 0; i < faces.size(); ++i) {
