@@ -18,13 +18,19 @@ namespace {
 
 constexpr uint64_t kSearchPoints = 1'000'000;  // surface points per measurement (as the atlas's, spread)
 
-// The group's faces that sample `image`, each compared with itself: source UVs on both sides.
+// The group's faces that sample `image`: the source at its UVs against the
+// re-coded image at the UVs an explicit-UV file carries (Draco-quantized).
+// A user's explicit-UV file has that loss too: baseline 1's lossless PNG
+// truck measures 48.4 dB, not 99, and pricing it without the loss found
+// JPEG q39 at 44.0 dB where `compare` measures the file at 42.6 dB.
 std::vector<SurfaceUvs> faces_sampling(const tinygltf::Model& model, const ImplicitPlan& plan,
                                        const AtlasGroup& group, const GroupAtlas& built, int image) {
   std::vector<SurfaceUvs> uvs;
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
-    if (samples_image(model, ip, image)) uvs.push_back({ip.source_uv, ip.source_uv, built.group_patch[k]});
+    if (samples_image(model, ip, image))
+      uvs.push_back(
+          {ip.source_uv, ip.explicit_uv.empty() ? ip.source_uv : ip.explicit_uv, built.group_patch[k]});
   }
   return uvs;
 }

@@ -22,6 +22,7 @@
 #include "codec/encode/texture/warp.h"
 #include "format/bitstream/decode_uvs.h"
 #include "format/bitstream/uvmap_codec.h"
+#include "format/gltf/draco_geometry.h"
 #include "format/gltf/extension.h"
 #include "format/gltf/gltf_materials.h"
 
@@ -486,6 +487,9 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   const std::vector<float> source_corner_uv = per_corner(geom, *uv0);
   if (!all_finite(source_corner_uv))
     return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
+  // Draco quantizes float UVs only; integer ones it keeps as they are.
+  const bool explicit_uv_quantized =
+      !options.raw_geometry && uv0->component_type == TINYGLTF_COMPONENT_TYPE_FLOAT;
   // Tiled or repeated UVs (a cloth whose texture repeats 30 times through
   // KHR_texture_transform): the atlas would store each repeat, many times the
   // texels the source stores once, and explicit UVs win by far. Decided here,
@@ -549,6 +553,10 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
 
   ip.tri = std::move(prepared.tri);
   ip.source_uv = std::move(prepared.source_uv);
+  // Draco's range comes from the values the corners reference (a vertex no
+  // triangle uses could widen it in the file; no corpus model has one).
+  if (explicit_uv_quantized)
+    ip.explicit_uv = draco_quantized(source_corner_uv, ip.source_uv, 2, options.draco.texcoord_bits);
   const CornerMatch& match = prepared.match;
   if (!source_corner_tangent.empty()) {
     ip.source_tangents.resize(ip.decoded.triangles.size() * 4);

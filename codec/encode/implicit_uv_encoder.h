@@ -22,10 +22,15 @@ namespace gltfwarp {
 
 struct ImplicitPrimitive {
   int mesh = -1, primitive = -1;
-  size_t report_index = 0;             // into EncodeReport::primitives
-  PrimitiveGeometry decoded;           // what every decoder sees (Draco output or raw arrays)
-  TriMesh tri;                         // embedding mesh (decoded positions welded exactly)
-  std::vector<float> source_uv;        // TEXCOORD_0 of the source, 2 per corner of `tri`
+  size_t report_index = 0;       // into EncodeReport::primitives
+  PrimitiveGeometry decoded;     // what every decoder sees (Draco output or raw arrays)
+  TriMesh tri;                   // embedding mesh (decoded positions welded exactly)
+  std::vector<float> source_uv;  // TEXCOORD_0 of the source, 2 per corner of `tri`
+  // The same UVs as an explicit-UV file of the primitive carries them (Draco
+  // quantizes them to --texcoord-bits): what its viewer samples, so what the
+  // keep-or-fall-back choice prices (explicit_alternative.h). Empty: the
+  // same as source_uv (raw geometry, or integer UVs Draco keeps exactly).
+  std::vector<float> explicit_uv;
   std::vector<float> source_tangents;  // the source's TANGENT, 4 per corner of `tri` (empty if none)
   std::vector<uint32_t> patch_of_face;
   uint32_t patch_count = 0;

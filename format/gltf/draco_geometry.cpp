@@ -5,8 +5,10 @@
 #include <cstring>
 #include <unordered_map>
 
+#include <draco/attributes/attribute_quantization_transform.h>
 #include <draco/compression/decode.h>
 #include <draco/compression/encode.h>
+#include <draco/core/quantization_utils.h>
 #include <draco/mesh/mesh.h>
 
 namespace gltfwarp {
@@ -125,6 +127,33 @@ DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes,
   }
   r.bytes.assign(buf.data(), buf.data() + buf.size());
   return r;
+}
+
+std::vector<float> draco_quantized(std::span<const float> attribute, std::span<const float> values,
+                                   int components, int bits) {
+  std::vector<float> out(values.begin(), values.end());
+  if (components < 1 || components > 4 || bits < 1 || bits > 30) return out;
+  const size_t n = attribute.size() / size_t(components);
+  if (n == 0) return out;
+  // Draco's parameters from the attribute, as its encoder computes them.
+  draco::PointAttribute att;
+  att.Init(draco::GeometryAttribute::GENERIC, int8_t(components), draco::DT_FLOAT32, false, n);
+  for (size_t i = 0; i < n; ++i)
+    att.SetAttributeValue(draco::AttributeValueIndex(uint32_t(i)), &attribute[i * size_t(components)]);
+  draco::AttributeQuantizationTransform transform;
+  if (!transform.ComputeParameters(att, bits)) return out;
+  // Then each value through the encoder's quantizer and the decoder's
+  // dequantizer (GeneratePortableAttribute, InverseTransformAttribute).
+  const int32_t max_quantized = int32_t((1u << uint32_t(bits)) - 1);
+  draco::Quantizer quantizer;
+  quantizer.Init(transform.range(), max_quantized);
+  draco::Dequantizer dequantizer;
+  if (!dequantizer.Init(transform.range(), max_quantized)) return out;
+  for (size_t i = 0; i < out.size(); ++i) {
+    const float min = transform.min_value(int(i % size_t(components)));
+    out[i] = dequantizer.DequantizeFloat(quantizer.QuantizeFloat(values[i] - min)) + min;
+  }
+  return out;
 }
 
 DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<DracoWanted>& wanted) {

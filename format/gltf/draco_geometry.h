@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,17 @@ struct DracoWanted {
   bool normalized = false;
 };
 DracoDecoded draco_decode(const uint8_t* bytes, size_t size, const std::vector<DracoWanted>& wanted);
+
+// `values` (`components` per element) as a Draco decoder returns them when
+// the attribute they belong to, `attribute` (the same layout: all of its
+// elements), was encoded quantized to `bits`: Draco's own range (the widest
+// component's extent, from the smallest value of each) and rounding
+// (AttributeQuantizationTransform). What an explicit-UV file's viewer
+// samples: 12-bit UVs over a unit square move a 2048² texture's samples by
+// up to a quarter texel. `values` as they are where Draco would not
+// quantize (bits outside 1..30, or no attribute values).
+std::vector<float> draco_quantized(std::span<const float> attribute, std::span<const float> values,
+                                   int components, int bits);
 
 // Welds vertices whose every attribute is byte-identical (after dropping
 // UVs, vertices split only by UV seams become one). Rewrites `attributes`
