@@ -247,7 +247,7 @@ constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
 // back from its bitstreams, follow_streams) and the search stops.
 Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                              const EncodeOptions& options, SourceImages& sources, double factor,
-                             double min_psnr, const QualityAim& aim, GroupAtlas& built) {
+                             double min_psnr, const QualityAim& aim, GroupAtlas& built, LayoutMemo* memo) {
   constexpr int32_t kStep = -2;
   StepBias bias(group.members.size());
   for (size_t k = 0; k < group.members.size(); ++k)
@@ -272,7 +272,7 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
     for (auto& b : all_down)
       for (int32_t& step : b) step += kStep;
     GroupAtlas down;
-    if (Error e = measure_group_atlas(model, plan, group, options, sources, factor, all_down, down);
+    if (Error e = measure_group_atlas(model, plan, group, options, sources, factor, all_down, down, memo);
         e.failed())
       return e;
     plan_follows_built = false;
@@ -312,7 +312,8 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
         offset += next[k].size();
       }
       GroupAtlas chosen;
-      if (Error e = build_group_atlas(model, plan, group, options, sources, factor, next, chosen); e.failed())
+      if (Error e = build_group_atlas(model, plan, group, options, sources, factor, next, chosen, 0, memo);
+          e.failed())
         return e;
       // Fewer texels usually mean fewer bytes, but not always (a blurred sharp
       // checker compresses worse): keep a round only if the bytes fell too.
@@ -337,7 +338,8 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
 // while it stays below the quality floor (and more density can still help).
 Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                      const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
-                     double min_psnr, const QualityAim& aim, GroupAtlas& built, double& factor_used) {
+                     double min_psnr, const QualityAim& aim, GroupAtlas& built, double& factor_used,
+                     LayoutMemo* memo) {
   const double reach = aim.boost ? std::max(min_psnr, aim.goal) : min_psnr;
   // Below the floor the atlas is tried again or given up, never written.
   const double code_floor = options.quality_fallback ? min_psnr : 0;
@@ -347,7 +349,8 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
     // the truck's boosted pages is about a second each).
     const bool last = i + 1 == factors.size();
     const double floor_here = !last && min_psnr > 0 ? std::max(code_floor, reach) : code_floor;
-    if (Error e = build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, floor_here);
+    if (Error e =
+            build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, floor_here, memo);
         e.failed())
       return e;
     factor_used = factors[i];
@@ -355,7 +358,8 @@ Error build_to_floor(const tinygltf::Model& model, ImplicitPlan& plan, const Atl
       // Stopped on an uncoded atlas that the caller may write: build it
       // again with its pages coded (the same atlas: a build is deterministic).
       if (!built.coded && !(built.floor_psnr() < code_floor))
-        return build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, code_floor);
+        return build_group_atlas(model, plan, group, options, sources, factors[i], {}, built, code_floor,
+                                 memo);
       break;
     }
   }
@@ -372,18 +376,20 @@ bool codes_colour_lossily(const tinygltf::Model& model, const AtlasGroup& group,
 }
 
 // The group's atlas at one coder setting: built up to the floor (and the
-// aim), then its headroom above the floor spent on fewer texels.
+// aim), then its headroom above the floor spent on fewer texels. With a
+// memo, layouts built before (at another coder setting) are taken from it.
 Error build_adapted(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                     const EncodeOptions& options, SourceImages& sources, const std::vector<double>& factors,
-                    double min_psnr, const QualityAim& aim, GroupAtlas& built) {
+                    double min_psnr, const QualityAim& aim, GroupAtlas& built, LayoutMemo* memo = nullptr) {
   double factor_used = factors[0];
-  if (Error e =
-          build_to_floor(model, plan, group, options, sources, factors, min_psnr, aim, built, factor_used);
+  if (Error e = build_to_floor(model, plan, group, options, sources, factors, min_psnr, aim, built,
+                               factor_used, memo);
       e.failed())
     return e;
   if (min_psnr > 0 && options.adaptive_density && built.error.values > 0 && !built.capped &&
       built.floor_psnr() >= min_psnr + 0.5)
-    return spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, aim, built);
+    return spend_quality_headroom(model, plan, group, options, sources, factor_used, min_psnr, aim, built,
+                                  memo);
   return {};
 }
 
@@ -408,11 +414,14 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
                            const std::vector<double>& factors, double min_psnr, const QualityAim& aim,
                            GroupAtlas& built, int& quality) {
   std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
+  LayoutMemo memo;                    // the layouts every quality starts from, built once
+  LayoutMemo* const kept = options.layout_memo ? &memo : nullptr;
   auto run = [&](int q, QualityTrial& trial) -> Error {
     EncodeOptions o = options;
     o.image_quality = q;
     GroupAtlas& atlas = atlases[q];
-    if (Error e = build_adapted(model, plan, group, o, sources, factors, min_psnr, aim, atlas); e.failed())
+    if (Error e = build_adapted(model, plan, group, o, sources, factors, min_psnr, aim, atlas, kept);
+        e.failed())
       return e;
     trial.bytes = atlas.report.atlas_image_bytes;
     trial.psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;

@@ -87,6 +87,11 @@ struct EncodeOptions {
   // larger than its sources. A positive value aims at that instead, boosting
   // and strict, with any coder. 0: trade quality for bytes down to min_psnr.
   double goal_psnr = -1;
+  // Rate control packs and warps the layouts every coder quality starts
+  // from once, and copies them for the next quality (group_atlas.h,
+  // LayoutMemo). The file is the same either way; false is the baseline
+  // the benchmark times it against (benchmarks/bench_rate_control.cpp).
+  bool layout_memo = true;
   std::function<void(const std::string& stage, double fraction)> progress;  // may be empty
 };
 

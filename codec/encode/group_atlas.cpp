@@ -2,6 +2,7 @@
 #include "codec/encode/group_atlas.h"
 
 #include <cmath>
+#include <cstring>
 
 #include "codec/core/parallel.h"
 #include "codec/encode/texture/image_io.h"
@@ -10,24 +11,85 @@ namespace gltfwarp {
 namespace {
 
 // The stages a full build and a measuring round share: patch numbers,
-// density, packing (with the round's effort) and the bitstreams.
+// density, packing (with the round's effort) and the bitstreams. With a
+// memo, `kept` is the layout's entry there (null: not kept), and a layout
+// built before is copied from it, the plan's UVs decoded from its streams.
 Error lay_out_group(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                     const EncodeOptions& options, double density_factor, const StepBias& step_bias,
-                    PackEffort effort, GroupAtlas& out) {
+                    PackEffort effort, GroupAtlas& out, LayoutMemo* memo, LayoutMemo::Entry*& kept) {
+  bool found = false;
+  kept =
+      memo ? memo->find_or_add(density_factor, step_bias, int(effort), options.image_format, found) : nullptr;
+  if (found) {
+    out = kept->layout;
+    return follow_streams(plan, group, out);
+  }
   out = GroupAtlas{};
   number_patches(plan, group, out);
   const GroupDensity density = choose_density(model, plan, group, options, density_factor);
   if (Error e = pack_group(plan, group, options, density, step_bias, effort, out); e.failed()) return e;
-  return write_streams(plan, group, options, out);
+  if (Error e = write_streams(plan, group, options, out); e.failed()) return e;
+  if (kept) {
+    kept->layout = out;
+    kept->filled = true;
+  }
+  return {};
 }
 
 }  // namespace
 
+LayoutMemo::Entry* LayoutMemo::find_or_add(double density_factor, const StepBias& step_bias, int effort,
+                                           const std::string& image_format, bool& found) {
+  found = false;
+  int32_t step = 0;
+  bool first = true;
+  for (const auto& member : step_bias)
+    for (int32_t s : member) {
+      if (first) {
+        step = s, first = false;
+      } else if (s != step) {
+        return nullptr;  // a round's own choice: no other quality builds it
+      }
+    }
+  uint64_t factor_bits = 0;
+  std::memcpy(&factor_bits, &density_factor, sizeof factor_bits);
+  auto [it, fresh] = entries.try_emplace({factor_bits, step_bias.empty(), step, effort, image_format});
+  if (fresh) {
+    it->second = std::make_unique<Entry>();
+    it->second->memo = this;
+  }
+  found = it->second->filled;
+  return it->second.get();
+}
+
+bool LayoutMemo::Entry::take(const JobKey& key, uint32_t page, OIIO::ImageBuf& atlas,
+                             WarpReport* report) const {
+  const auto it = pages.find({key, page});
+  if (it == pages.end()) return false;
+  atlas.copy(it->second.atlas);
+  if (report) {
+    *report = it->second.report;
+    report->seconds = report->fit_seconds = 0;  // a copy is no warp's time
+  }
+  return true;
+}
+
+void LayoutMemo::Entry::keep(const JobKey& key, uint32_t page, const OIIO::ImageBuf& atlas,
+                             const WarpReport& report) {
+  const size_t bytes = atlas.spec().image_bytes();
+  if (memo->warped_bytes + bytes > kMaxWarpedBytes || pages.count({key, page})) return;
+  Page& kept = pages[{key, page}];
+  kept.atlas.copy(atlas);
+  kept.report = report;
+  memo->warped_bytes += bytes;
+}
+
 Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                         const EncodeOptions& options, SourceImages& sources, double density_factor,
-                        const StepBias& step_bias, GroupAtlas& out, double code_floor) {
-  if (Error e =
-          lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::tightest, out);
+                        const StepBias& step_bias, GroupAtlas& out, double code_floor, LayoutMemo* memo) {
+  LayoutMemo::Entry* kept = nullptr;
+  if (Error e = lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::tightest,
+                              out, memo, kept);
       e.failed())
     return e;
   // Lossless pages are measured before they are coded (the coding does not
@@ -55,7 +117,8 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
       std::vector<SurfaceUvs> uvs;
       Error err;
       WarpReport wr;
-      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err, &wr))
+      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err, &wr,
+                           kept))
         continue;  // no member on this page samples the image
       if (err.failed()) return err;
       if (!source.slot.normal_map) out.fit_before += wr.fit.error_before, out.fit_after += wr.fit.error_after;
@@ -104,9 +167,10 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
 
 Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                           const EncodeOptions& options, SourceImages& sources, double density_factor,
-                          const StepBias& step_bias, GroupAtlas& out) {
-  if (Error e =
-          lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::one_order, out);
+                          const StepBias& step_bias, GroupAtlas& out, LayoutMemo* memo) {
+  LayoutMemo::Entry* kept = nullptr;
+  if (Error e = lay_out_group(model, plan, group, options, density_factor, step_bias, PackEffort::one_order,
+                              out, memo, kept);
       e.failed())
     return e;
   for (const SlotSource& source : slot_sources(model, group)) {
@@ -118,7 +182,8 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
       OIIO::ImageBuf atlas;
       std::vector<SurfaceUvs> uvs;
       Error err;
-      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err))
+      if (!warp_page_image(model, plan, group, out, source, coding, *decoded, page, atlas, uvs, err, nullptr,
+                           kept))
         continue;
       if (err.failed()) return err;
       const auto palette = snap_page_image(model, source, coding, options, *decoded, atlas);

@@ -95,13 +95,50 @@ using SourceImages = std::map<int, SourceImage>;
 // (adaptive density; empty: none).
 using StepBias = std::vector<std::vector<int32_t>>;
 
+// Layouts kept for the builds after, while rate control tries coder
+// qualities (choose_image_quality). Each quality's density pipeline starts
+// from the same layouts: every patch at its measured scale at each density
+// factor, then every patch halved once. Only its later rounds, steered by
+// that quality's own error, differ (CesiumMilkTruck at --target-psnr 44:
+// 23 of 126 layouts were repeats). Neither the layout nor the warp depends
+// on the coder's quality, so a repeat is copied from here, bit for bit,
+// instead of being packed and warped again. Only layouts whose step bias
+// is one value for every patch are kept, and their warped pages up to a
+// bound on memory.
+struct LayoutMemo {
+  // A warped page before palette snapping and coding, with its warp's report.
+  struct Page {
+    OIIO::ImageBuf atlas;
+    WarpReport report;
+  };
+  struct Entry {
+    LayoutMemo* memo = nullptr;
+    bool filled = false;                                // the layout is built
+    GroupAtlas layout;                                  // as the layout stages left it: no image yet
+    std::map<std::pair<JobKey, uint32_t>, Page> pages;  // by slot source and page
+    // The page warped before, if kept: into `atlas` (and `report`).
+    bool take(const JobKey& key, uint32_t page, OIIO::ImageBuf& atlas, WarpReport* report) const;
+    // Keeps a copy of a warped page, while the memo's bound allows.
+    void keep(const JobKey& key, uint32_t page, const OIIO::ImageBuf& atlas, const WarpReport& report);
+  };
+  // The entry of a layout (`found`: built before, `layout` holds it), or
+  // null where such layouts are not kept.
+  Entry* find_or_add(double density_factor, const StepBias& step_bias, int effort,
+                     const std::string& image_format, bool& found);
+  static constexpr size_t kMaxWarpedBytes = size_t(512) << 20;
+  size_t warped_bytes = 0;
+  std::map<std::tuple<uint64_t, bool, int32_t, int, std::string>, std::unique_ptr<Entry>> entries;
+};
+
 // Every stage, for an atlas the file may hold: the tightest packing, every
 // slot (normal maps too) coded in its output format. With `code_floor` > 0
 // an atlas whose quality (floor_psnr) ends below it, which the caller will
 // not keep, may be left without its losslessly coded bytes (out.coded false).
+// With a memo, a layout built before is taken from it.
 Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                         const EncodeOptions& options, SourceImages& sources, double density_factor,
-                        const StepBias& step_bias, GroupAtlas& out, double code_floor = 0);
+                        const StepBias& step_bias, GroupAtlas& out, double code_floor = 0,
+                        LayoutMemo* memo = nullptr);
 
 // An adaptive round's trial: each patch's texels (patch_texels) and error
 // (patch_error), and whether the atlas was capped. One packing order, colour
@@ -109,7 +146,7 @@ Error build_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const 
 // part of the error).
 Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                           const EncodeOptions& options, SourceImages& sources, double density_factor,
-                          const StepBias& step_bias, GroupAtlas& out);
+                          const StepBias& step_bias, GroupAtlas& out, LayoutMemo* memo = nullptr);
 
 // ---- The stages (group_layout.cpp) ----
 
@@ -196,10 +233,11 @@ SlotCoding slot_coding(const tinygltf::Model& model, const SlotSource& source, c
 // UVs with their patches, for the measurement; `report`, if given, the
 // warp's (its least-squares fit). False: no member on the page samples the
 // image (nothing warped). The source is staged once, in `decoded`.
+// `kept`: the layout's memo entry, if it has one (the warp is taken from it, or kept there).
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      SourceImage& decoded, uint32_t page, OIIO::ImageBuf& atlas, std::vector<SurfaceUvs>& uvs,
-                     Error& error, WarpReport* report = nullptr);
+                     Error& error, WarpReport* report = nullptr, LayoutMemo::Entry* kept = nullptr);
 
 // Snaps the warped page to the palette it will be written with (PNG kept
 // as PNG keeps its source's palette), so the quality check measures the

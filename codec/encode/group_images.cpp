@@ -159,7 +159,7 @@ std::vector<SurfaceUvs> page_surface_uvs(const tinygltf::Model& model, const Imp
 bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
                      const GroupAtlas& built, const SlotSource& source, const SlotCoding& coding,
                      SourceImage& decoded, uint32_t page, OIIO::ImageBuf& atlas, std::vector<SurfaceUvs>& uvs,
-                     Error& error, WarpReport* report) {
+                     Error& error, WarpReport* report, LayoutMemo::Entry* kept) {
   error = {};
   uvs.clear();
   const bool normal_map = source.slot.normal_map;
@@ -200,6 +200,7 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   }
   uvs = page_surface_uvs(model, plan, group, built, source.image, page);
   if (wp.empty()) return false;
+  if (kept && kept->take(source.key, page, atlas, report)) return true;
   std::shared_ptr<const StagedSource>& staged = decoded.staged[coding.warp.encoding];
   if (!staged) {
     std::string why;
@@ -216,6 +217,8 @@ bool warp_page_image(const tinygltf::Model& model, const ImplicitPlan& plan, con
   if (ws != WarpStatus::ok)
     error = {ErrorCode::internal, "warping image " + std::to_string(source.image) + ": " + to_string(ws) +
                                       (wr.error.empty() ? "" : " " + wr.error)};
+  else if (kept)
+    kept->keep(source.key, page, atlas, wr);
   if (report) *report = std::move(wr);
   return true;
 }
