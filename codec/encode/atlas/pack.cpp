@@ -916,8 +916,16 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       while (t.area < seen && !finished_best.compare_exchange_weak(seen, t.area, std::memory_order_relaxed)) {
       }
     };
+    // Run one trial of each order before the next width of any: the
+    // winner is as often in a later order as in the first, so a small area
+    // is found sooner and more of the rest stop early (the CesiumMilkTruck's
+    // default encode: 6.3-7.0 s of packing before, 4.6-5.4 s after). Only
+    // the running order changes; the choice below goes by trial index.
+    std::vector<size_t> running(trials.size());
+    for (size_t k = 0, w = 0; w < widths.size(); ++w)
+      for (size_t o = 0; o < orders.size(); ++o) running[k++] = o * widths.size() + w;
     run_in_parallel(trials.size(), worker_count(trials.size()),
-                    [&](size_t i, size_t) { run_trial(trials[i]); });
+                    [&](size_t i, size_t) { run_trial(trials[running[i]]); });
     uint64_t best_area = UINT64_MAX;
     uint32_t best_w = 0, best_h = 0, best_pages = 0;
     std::vector<Placed> best_placed;
