@@ -6,6 +6,8 @@
 #include <cmath>
 #include <functional>
 #include <map>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -135,7 +137,14 @@ TEST(QualitySearch, AnErrorEndsTheSearch) {
 TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
   GLTFWARP_REQUIRE_CORPUS();
   AtlasReport chosen, fixed90;
-  ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions&) {}, chosen));
+  std::vector<double> shown;  // the "atlas" progress: rate control's trials move it
+  ASSERT_TRUE(encode_duck_jpeg(
+      [&](EncodeOptions& o) {
+        o.progress = [&](const std::string& stage, double fraction) {
+          if (stage == "atlas") shown.push_back(fraction);
+        };
+      },
+      chosen));
   ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions& o) { o.image_quality = 90; }, fixed90));
   std::printf("Duck at 40 dB: rate control q%d%s %zu B %.2f dB (%d trials); q90 %zu B %.2f dB\n",
               chosen.image_quality, chosen.lossless_chosen ? " (PNG)" : "", chosen.atlas_image_bytes,
@@ -147,6 +156,12 @@ TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
   EXPECT_GE(chosen.psnr, 40.0);
   EXPECT_LT(chosen.atlas_image_bytes, fixed90.atlas_image_bytes);
   EXPECT_EQ(fixed90.image_quality, 0) << "a quality given is not searched";
+  // One step per quality tried, one for the lossless candidate, never back.
+  EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
+  EXPECT_GE(shown.size(), size_t(chosen.quality_trials) + 1);
+  ASSERT_FALSE(shown.empty());
+  EXPECT_EQ(shown.back(), 1.0);
+  EXPECT_GE(shown.front(), 0.0);
 }
 
 // A target bounds the adaptive halving ("texels are never halved below

@@ -5,6 +5,7 @@
 // into the materials) or give the group back its explicit UVs.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <map>
 #include <set>
 
@@ -408,11 +409,14 @@ bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, cons
 // 9.9 KB PNG atlas against 14.9 KB at the best JPEG quality, q75, which also
 // made explicit UVs look cheaper). It is written where it reaches the target and
 // is smaller; `quality` stays the lossy search's, for the sources of a group
-// that keeps explicit UVs.
+// that keeps explicit UVs. `done` hears the share of the trials run so far
+// (of kMaxQualityTrials and the lossless one), for the progress display.
 Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                            const EncodeOptions& options, SourceImages& sources,
                            const std::vector<double>& factors, double min_psnr, const QualityAim& aim,
-                           GroupAtlas& built, int& quality) {
+                           GroupAtlas& built, int& quality, const std::function<void(double)>& done) {
+  constexpr double kTrials = kMaxQualityTrials + 1;
+  int tried = 0;
   std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
   LayoutMemo memo;                    // the layouts every quality starts from, built once
   LayoutMemo* const kept = options.layout_memo ? &memo : nullptr;
@@ -425,6 +429,7 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
       return e;
     trial.bytes = atlas.report.atlas_image_bytes;
     trial.psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;
+    done(++tried / kTrials);
     return {};
   };
   const double target = std::max(aim.goal, min_psnr);
@@ -445,6 +450,7 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   GroupAtlas png;
   if (Error e = build_adapted(model, plan, group, lossless, sources, factors, min_psnr, aim, png); e.failed())
     return e;
+  done(1.0);
   const bool png_reaches = png.error.values > 0 && png.floor_psnr() >= target;
   if (png_reaches && (!choice.reached || png.report.atlas_image_bytes < built.report.atlas_image_bytes)) {
     png.report.lossless_chosen = true;
@@ -586,8 +592,12 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     // included, with a lossless coder too (explicit_alternative.h).
     const bool targeted = options.goal_psnr > 0 && options.image_quality <= 0;
     if (controlled) {
+      // Rate control runs up to ten atlas pipelines: the trials move the bar.
+      const auto trials_done = [&](double share) {
+        if (options.progress) options.progress("atlas", (double(gi) + share) / double(plan.groups.size()));
+      };
       if (Error e = choose_image_quality(model, plan, group, options, sources, factors, min_psnr, aim, built,
-                                         group_options.image_quality);
+                                         group_options.image_quality, trials_done);
           e.failed())
         return e;
     } else if (Error e = build_adapted(model, plan, group, options, sources, factors, min_psnr, aim, built);

@@ -10,6 +10,7 @@ Error search_image_quality(double target_psnr, const RunQuality& run, QualityCho
   // 2048-px texture set), so few of them, and a bisection where it pays.
   constexpr std::array<int, 7> kGrid = {95, 85, 72, 58, 45, 32, 20};
   constexpr int kBisections = 2;
+  static_assert(int(kGrid.size()) + kBisections == kMaxQualityTrials);
   // The adaptive halving stops just above the target wherever it can, so
   // a trial lands within a tenth of a dB of it either side and a near miss
   // says little about the next quality down (its density may land above):

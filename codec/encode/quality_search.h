@@ -35,6 +35,7 @@ struct QualityChoice {
 // each, so the grid goes down from the top until a clear miss, then halves
 // the gap below the best. An error from `run` ends the search with it.
 using RunQuality = std::function<Error(int quality, QualityTrial& out)>;
+constexpr int kMaxQualityTrials = 9;  // the most qualities one search tries
 Error search_image_quality(double target_psnr, const RunQuality& run, QualityChoice& out);
 
 }  // namespace gltfwarp
