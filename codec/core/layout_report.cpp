@@ -109,7 +109,22 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
       r.seam_length += length3(mesh, mesh.indices[3 * f + (k + 1) % 3], mesh.indices[3 * f + (k + 2) % 3]);
     }
   }
-  // Per patch: fill, and holes (1-3 faces whose every edge borders one other patch).
+  // Per patch: fill, and holes: 1-3 faces whose every edge borders one
+  // other patch, the host, when the host also borders the mesh border or a
+  // third patch. Without that, host and hole make a closed part on their own
+  // (a cube cut 9 + 3): the host is then a disc whose outline goes round the
+  // hole, and its layout encloses nothing.
+  std::vector<uint32_t> first_neighbour(patch_count, kNone);
+  std::vector<uint8_t> outer_border(patch_count, 0);
+  for (size_t c = 0; c < opp.size(); ++c) {
+    const uint32_t p = patch_of_face[c / 3];
+    const uint32_t q = opp[c] == kNone ? kNone : patch_of_face[opp[c] / 3];
+    if (q == p) continue;
+    if (q == kNone || (first_neighbour[p] != kNone && first_neighbour[p] != q))
+      outer_border[p] = 1;
+    else
+      first_neighbour[p] = q;
+  }
   std::vector<uint32_t> off, pf;
   faces_by_patch(patch_of_face, patch_count, off, pf);
   const std::vector<double> xy(corner_xy.begin(), corner_xy.end());
@@ -137,7 +152,7 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
         else if (other != q)
           hole = false;
       }
-    r.holes += hole && other != kNone;
+    r.holes += hole && other != kNone && outer_border[other];
   }
   r.fill = fw > 0 ? fsum / fw : 1.0;
   return r;

@@ -27,7 +27,8 @@ struct EmbedReport {
   double seam_length = 0;             // their 3D length
   uint32_t interior_edges = 0;        // all manifold interior edges
   double fill = 0;                    // area-weighted mean of patch 2D area / its min-area-rect area
-  uint32_t holes = 0;                 // patches of 1-3 faces whose every edge borders one other patch
+  uint32_t holes = 0;                 // patches of 1-3 faces whose every edge borders one other patch,
+                                      // which also has an outer border (layout_report.cpp)
 };
 
 // Pure: measures any partition with its replayed corner positions.

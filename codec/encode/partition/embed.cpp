@@ -7,7 +7,9 @@
 // what tau allows (so each patch is a near-disc around its own seed); then
 // merges adjacent patches while the union still replays within tau and stays
 // compact; then straightens seams by moving notch and hole faces to the
-// patch that surrounds them on two or three sides, when both still replay.
+// patch that surrounds them on two or three sides, when both still replay;
+// a hole (1-3 faces inside one other patch) joins that patch, or else a
+// corridor of its faces links the hole to the patch's outer border.
 // Every regrowth of a merged or reshaped set seeds at the set's centre and
 // falls back to its lowest face; the final patches keep the seed that grew
 // them (format 1.1 stores it). Against lowest-face seeds only (1.0), this
@@ -910,6 +912,24 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
   return moved_total;
 }
 
+// The patch enclosing patch p (faces H) when H is a hole: 1 to 3 faces
+// whose every edge borders one other patch, not the mesh border; else kNone.
+uint32_t hole_host(const Grower& g, const std::vector<uint32_t>& opp, std::span<const uint32_t> H,
+                   uint32_t p) {
+  if (H.empty() || H.size() > 3) return kNone;
+  uint32_t b = kNone;
+  for (uint32_t f : H)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t o = opp[3 * f + k];
+      if (o == kNone) return kNone;
+      const uint32_t q = g.face_patch[o / 3];
+      if (q == p) continue;
+      if (b != kNone && b != q) return kNone;
+      b = q;
+    }
+  return b;
+}
+
 // Holes (issue 8): a patch of 1 to 3 faces whose every edge borders one
 // other patch B joins B when B with it still regrows whole. Unbudgeted:
 // holes are few, and each trial costs one regrowth of B.
@@ -921,24 +941,8 @@ void absorb_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& op
   for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
   for (uint32_t p = 0; p < patches.size(); ++p) {
     const std::vector<uint32_t>& H = patches[p];
-    if (H.empty() || H.size() > 3) continue;
-    uint32_t b = kNone;
-    bool hole = true;
-    for (uint32_t f : H)
-      for (int k = 0; k < 3 && hole; ++k) {
-        const uint32_t o = opp[3 * f + k];
-        if (o == kNone) {
-          hole = false;
-          break;
-        }
-        const uint32_t q = g.face_patch[o / 3];
-        if (q == p) continue;
-        if (b == kNone)
-          b = q;
-        else if (b != q)
-          hole = false;
-      }
-    if (!hole || b == kNone) continue;
+    const uint32_t b = hole_host(g, opp, H, p);
+    if (b == kNone) continue;
     std::vector<uint32_t>& B = patches[b];
     if (dr.active) {
       // Faces with less source detail than B's (stretched source UVs) only
@@ -973,6 +977,97 @@ void absorb_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& op
   }
 }
 
+// Holes that absorb_holes leaves (the host cannot take them within tau,
+// typically where the hole sits on a cone point the host wraps around, or
+// the density rule keeps them apart): a corridor of the host's faces, the
+// shortest in face steps from the hole to the host's outer border, leaves
+// the host, so that the host becomes a disc again and the hole borders a
+// second patch. The corridor joins the hole where the density rule allows,
+// else it is a patch of its own. Accepted only when every changed set
+// regrows whole; the first few exits in breadth-first order are tried.
+// A host with no outer border (host and hole close a part, a cube cut
+// 9 + 3) encloses nothing and is left. Each corridor face costs about one
+// seam edge; the host loses an inner border that the packer cannot use.
+void open_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& opp, const DensityRule& dr,
+                std::vector<std::vector<uint32_t>>& patches) {
+  constexpr size_t kExitsTried = 12;
+  const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
+  std::vector<uint32_t> parent(nf, kNone), queue, exits, visited, faces, verts, grown_b, host_rest, opened;
+  std::vector<double> saved;
+  uint32_t label = 0;
+  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  const size_t holes_end = patches.size();  // corridors of their own are not holes
+  for (uint32_t p = 0; p < holes_end; ++p) {
+    const uint32_t b = hole_host(g, opp, patches[p], p);
+    if (b == kNone) continue;
+    // Breadth-first over the host's faces from those beside the hole; an
+    // exit is a host face with an edge on the mesh border or a third patch.
+    queue.clear(), exits.clear(), visited.clear();
+    for (uint32_t f : patches[p])
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t n = opp[3 * f + k] / 3;
+        if (g.face_patch[n] == b && parent[n] == kNone)
+          parent[n] = n, queue.push_back(n), visited.push_back(n);
+      }
+    for (size_t i = 0; i < queue.size() && exits.size() < kExitsTried; ++i) {
+      const uint32_t f = queue[i];
+      bool exit = false;
+      for (int k = 0; k < 3; ++k) {
+        const uint32_t o = opp[3 * f + k];
+        if (o == kNone || (g.face_patch[o / 3] != b && g.face_patch[o / 3] != p)) exit = true;
+        if (o == kNone || g.face_patch[o / 3] != b || parent[o / 3] != kNone) continue;
+        parent[o / 3] = f, queue.push_back(o / 3), visited.push_back(o / 3);
+      }
+      if (exit) exits.push_back(f);
+    }
+    for (uint32_t e : exits) {
+      opened.clear();
+      for (uint32_t f = e;; f = parent[f]) {
+        opened.push_back(f);
+        if (parent[f] == f) break;
+      }
+      bool join = true;
+      if (dr.active) {
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+        for (uint32_t f : patches[p]) DensityRule::extend(lo, hi, dr.at(f));
+        for (uint32_t f : opened) join = join && dr.admits(lo, hi, f), DensityRule::extend(lo, hi, dr.at(f));
+      }
+      const uint32_t id = join ? p : static_cast<uint32_t>(patches.size());
+      if (join) opened.insert(opened.end(), patches[p].begin(), patches[p].end());
+      std::vector<uint32_t>& B = patches[b];
+      for (uint32_t f : opened) g.face_patch[f] = kNone;  // mark
+      host_rest.clear();
+      for (uint32_t f : B)
+        if (g.face_patch[f] == b) host_rest.push_back(f);
+      // Saved: B's positions, then the hole's when it joins.
+      const std::span<const uint32_t> hole =
+          join ? std::span<const uint32_t>(patches[p]) : std::span<const uint32_t>();
+      saved.resize((B.size() + hole.size()) * 6);
+      size_t i = 0;
+      for (uint32_t f : B) std::copy_n(&g.xy[6 * size_t{f}], 6, &saved[6 * i++]);
+      for (uint32_t f : hole) std::copy_n(&g.xy[6 * size_t{f}], 6, &saved[6 * i++]);
+      const uint32_t lb = label++, lh = label++;
+      for (uint32_t f : host_rest) g.region[f] = lb, g.face_patch[f] = kNone;
+      for (uint32_t f : opened) g.region[f] = lh, g.face_patch[f] = kNone;
+      if (regrow_whole(g, picker, host_rest, b, grown_b, verts) &&
+          regrow_whole(g, picker, opened, id, faces, verts)) {
+        B = grown_b;
+        if (join)
+          patches[p] = faces;
+        else
+          patches.push_back(faces);  // B and hole not used after this
+        break;
+      }
+      for (uint32_t f : B) g.face_patch[f] = kNone;
+      for (uint32_t f : hole) g.face_patch[f] = kNone;
+      i = 0;
+      for (uint32_t f : B) g.face_patch[f] = b, std::copy_n(&saved[6 * i++], 6, &g.xy[6 * size_t{f}]);
+      for (uint32_t f : hole) g.face_patch[f] = p, std::copy_n(&saved[6 * i++], 6, &g.xy[6 * size_t{f}]);
+    }
+    for (uint32_t f : visited) parent[f] = kNone;
+  }
+}
+
 }  // namespace
 
 Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
@@ -999,6 +1094,7 @@ Embedding embed(const TriMesh& mesh, const EmbedOptions& opt) {
       if (opt.merge) merge_patches(g, picker, opp, opt, opt.remerge_budget, dr, patches);
     }
     absorb_holes(g, picker, opp, dr, patches);
+    open_holes(g, picker, opp, dr, patches);
     // Final pass: regrow every patch's face set from its centre, so that the
     // recorded encoder positions come from one growth of the final sets (a
     // set that did not regrow whole is split: its leftovers grow from their
