@@ -66,6 +66,22 @@ double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy
   return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
 }
 
+uint32_t hole_host(std::span<const uint32_t> opposite_corner, std::span<const uint32_t> patch_of_face,
+                   std::span<const uint32_t> faces, uint32_t p) {
+  if (faces.empty() || faces.size() > 3) return kNone;
+  uint32_t host = kNone;
+  for (uint32_t f : faces)
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t o = opposite_corner[3 * size_t{f} + k];
+      if (o == kNone) return kNone;
+      const uint32_t q = patch_of_face[o / 3];
+      if (q == p) continue;
+      if (host != kNone && host != q) return kNone;
+      host = q;
+    }
+  return host;
+}
+
 EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                               uint32_t patch_count, std::span<const double> corner_xy, double tau) {
   EmbedReport r;
@@ -135,24 +151,8 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
     double area = 0;
     const double fl = patch_fill(faces, xy, scratch, &area);
     fsum += area * fl, fw += area;
-    if (faces.size() > 3) continue;
-    uint32_t other = kNone;
-    bool hole = true;
-    for (uint32_t f : faces)
-      for (int k = 0; k < 3 && hole; ++k) {
-        const uint32_t o = opp[3 * f + k];
-        if (o == kNone) {
-          hole = false;
-          break;
-        }
-        const uint32_t q = patch_of_face[o / 3];
-        if (q == p) continue;
-        if (other == kNone)
-          other = q;
-        else if (other != q)
-          hole = false;
-      }
-    r.holes += hole && other != kNone && outer_border[other];
+    const uint32_t host = hole_host(opp, patch_of_face, faces, p);
+    r.holes += host != kNone && outer_border[host];
   }
   r.fill = fw > 0 ? fsum / fw : 1.0;
   return r;

@@ -35,6 +35,13 @@ struct EmbedReport {
 EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                               uint32_t patch_count, std::span<const double> corner_xy, double tau = 1.3);
 
+// The patch enclosing patch p (its faces `faces`) when they are a hole: 1 to
+// 3 faces whose every edge borders one other patch, none the mesh border;
+// else kNone. patch_of_face may hold kNone for faces not yet in a patch (the
+// encoder's growth), which then counts as one more patch.
+uint32_t hole_host(std::span<const uint32_t> opposite_corner, std::span<const uint32_t> patch_of_face,
+                   std::span<const uint32_t> faces, uint32_t p);
+
 // 3D length of the edge u-w, and 3D area of face f (double).
 double length3(const TriMesh& m, uint32_t u, uint32_t w);
 double face_area3(const TriMesh& m, uint32_t f);

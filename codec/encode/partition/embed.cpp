@@ -540,6 +540,13 @@ class SeedPicker {
   uint32_t stamp_ = 0;
 };
 
+// A region label no face carries yet (for sets regrown on their own).
+uint32_t first_free_label(const Grower& g) {
+  uint32_t label = 0;
+  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  return label;
+}
+
 // Regrows the face set `set` (whose faces must be free and carry one label)
 // as patch `id` and reports whether it grew whole. Tries the set's centre
 // first, then its lowest face: the replay grows from either (format 1.1
@@ -843,8 +850,7 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
   std::vector<uint32_t> touched(patches.size(), 0), faces, verts, keep, grow_b;
   std::vector<double> saved;
   std::vector<uint32_t> saved_faces, saved_patch;
-  uint32_t label = 0;
-  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  uint32_t label = first_free_label(g);
   size_t moved_total = 0;
   std::vector<NotchMove> moves;
   // Regrows the face set `set` as patch `id`; true if it grew whole.
@@ -912,24 +918,6 @@ size_t straighten_seams(Grower& g, SeedPicker& picker, const std::vector<uint32_
   return moved_total;
 }
 
-// The patch enclosing patch p (faces H) when H is a hole: 1 to 3 faces
-// whose every edge borders one other patch, not the mesh border; else kNone.
-uint32_t hole_host(const Grower& g, const std::vector<uint32_t>& opp, std::span<const uint32_t> H,
-                   uint32_t p) {
-  if (H.empty() || H.size() > 3) return kNone;
-  uint32_t b = kNone;
-  for (uint32_t f : H)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t o = opp[3 * f + k];
-      if (o == kNone) return kNone;
-      const uint32_t q = g.face_patch[o / 3];
-      if (q == p) continue;
-      if (b != kNone && b != q) return kNone;
-      b = q;
-    }
-  return b;
-}
-
 // Holes (issue 8): a patch of 1 to 3 faces whose every edge borders one
 // other patch B joins B when B with it still regrows whole. Unbudgeted:
 // holes are few, and each trial costs one regrowth of B.
@@ -937,11 +925,10 @@ void absorb_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& op
                   std::vector<std::vector<uint32_t>>& patches) {
   std::vector<uint32_t> faces, verts, unite;
   std::vector<double> saved;
-  uint32_t label = 0;
-  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  uint32_t label = first_free_label(g);
   for (uint32_t p = 0; p < patches.size(); ++p) {
     const std::vector<uint32_t>& H = patches[p];
-    const uint32_t b = hole_host(g, opp, H, p);
+    const uint32_t b = hole_host(opp, g.face_patch, H, p);
     if (b == kNone) continue;
     std::vector<uint32_t>& B = patches[b];
     if (dr.active) {
@@ -994,11 +981,10 @@ void open_holes(Grower& g, SeedPicker& picker, const std::vector<uint32_t>& opp,
   const uint32_t nf = static_cast<uint32_t>(g.face_patch.size());
   std::vector<uint32_t> parent(nf, kNone), queue, exits, visited, faces, verts, grown_b, host_rest, opened;
   std::vector<double> saved;
-  uint32_t label = 0;
-  for (uint32_t r : g.region) label = std::max(label, r == kNone ? 0 : r + 1);
+  uint32_t label = first_free_label(g);
   const size_t holes_end = patches.size();  // corridors of their own are not holes
   for (uint32_t p = 0; p < holes_end; ++p) {
-    const uint32_t b = hole_host(g, opp, patches[p], p);
+    const uint32_t b = hole_host(opp, g.face_patch, patches[p], p);
     if (b == kNone) continue;
     // Breadth-first over the host's faces from those beside the hole; an
     // exit is a host face with an edge on the mesh border or a third patch.
