@@ -1,5 +1,6 @@
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "apps/commands.h"
 #include "codec/encode/texture/surface_compare.h"
@@ -11,6 +12,7 @@ Runner add_compare(CLI::App& app) {
   struct Args {
     std::string a, b;
     SurfaceCompareOptions opt;
+    std::string weight;
   };
   auto args = std::make_shared<Args>();
   app.add_option("source", args->a, "The original .gltf/.glb")->required()->check(CLI::ExistingFile);
@@ -26,17 +28,24 @@ Runner add_compare(CLI::App& app) {
                  "Samples per triangle; 0 = about one per source texel")
       ->default_val(0)
       ->check(CLI::Range(0, 1000));
+  app.add_option("--weight", args->weight,
+                 "texel (each source texel alike: a face weighs its UV area) or area (each face its 3D area: "
+                 "the surface as an even view of all of it shows it)")
+      ->default_val("texel")
+      ->check(CLI::IsMember({"texel", "area"}));
   return [args]() {
     tinygltf::Model a, b;
     GltfReadResult ra = read_gltf(args->a, a);
     if (!ra.ok) return fail(ra.error);
     GltfReadResult rb = read_gltf(args->b, b);
     if (!rb.ok) return fail(rb.error);
+    if (args->weight == "area") args->opt.weight = SampleWeight::surface_area;
     const SurfaceComparison c = compare_surface(a, b, args->opt);
     if (!c.error.empty()) return fail(c.error);
     std::printf(
-        "surface PSNR %.2f dB (RMSE %.3f, max %.0f of 255) over %zu samples on %zu primitives%s\n", c.psnr,
+        "surface PSNR %.2f dB (RMSE %.3f, max %.0f of 255) over %zu samples on %zu primitives%s%s\n", c.psnr,
         c.rmse, c.max_abs, c.samples, c.primitives,
+        args->opt.weight == SampleWeight::surface_area ? ", weighted by surface area" : "",
         c.unmatched_faces ? (", " + std::to_string(c.unmatched_faces) + " faces unmatched").c_str() : "");
     return 0;
   };

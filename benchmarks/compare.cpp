@@ -62,6 +62,7 @@
 #include <nlohmann/json.hpp>
 
 #include "codec/core/corner_match.h"
+#include "codec/core/mesh.h"
 #include "codec/decode/decoder.h"
 #include "codec/encode/encoder.h"
 #include "codec/encode/texture/image_io.h"
@@ -155,11 +156,17 @@ struct Psnr {
   double sse = 0;
   size_t samples = 0;  // colour samples (3 values each)
   size_t faces_skipped = 0;
-  double value() const {
-    if (!samples) return 0;
-    const double mse = sse / (3.0 * static_cast<double>(samples));
+  // The same error weighted by surface instead of by texel: each face's mean
+  // squared error times its 3D area (the source's), over the faces' area.
+  // The samples are about one per source texel, so `value` weighs a face by
+  // its UV area; a face with many texels on little surface (a cone's apex
+  // under a polar map, a densely textured eye) weighs its area here.
+  double area_sse = 0, area = 0;
+  static double db(double mse) {
     return mse <= 0 ? 99.0 : std::min(99.0, 10 * std::log10(255.0 * 255.0 / mse));
   }
+  double value() const { return samples ? db(sse / (3.0 * static_cast<double>(samples))) : 0; }
+  double area_value() const { return area > 0 ? db(area_sse / (3.0 * area)) : 0; }
 };
 
 std::vector<float> as_floats(const VertexAttribute& a) {
@@ -356,6 +363,11 @@ Psnr texture_psnr(const tinygltf::Model& source, const tinygltf::Model& decoded,
             if (i + j < n - 1) visit((i + 2.0 / 3) / n, (j + 2.0 / 3) / n);
           }
         if (worst1) face_errors.push_back({r.sse - sse0, r.samples - samples0});
+        if (r.samples > samples0) {
+          const double area3 = triangle_area3(sposf.data(), &stris[3 * size_t(sface)]);
+          r.area_sse += (r.sse - sse0) / double(r.samples - samples0) * area3;
+          r.area += area3;
+        }
       }
       if (!debug_img.empty()) {  // the decoded colours painted at the source UVs: compare by eye with the
                                  // source texture
@@ -751,9 +763,13 @@ int main(int argc, char** argv) {
                      const tinygltf::Model& dec, int position_bits, json extra) {
     double worst = 0;
     const Psnr q = texture_psnr(src, dec, textured, position_bits, &worst);
-    json pt = {{"curve", curve},     {"codec", curve == "ours" ? "ours" : "draco12"},
-               {"setting", setting}, {"bytes", file_size(path)},
-               {"psnr", q.value()},  {"surface_worst1_share", worst}};
+    json pt = {{"curve", curve},
+               {"codec", curve == "ours" ? "ours" : "draco12"},
+               {"setting", setting},
+               {"bytes", file_size(path)},
+               {"psnr", q.value()},
+               {"surface_worst1_share", worst},
+               {"psnr_area", q.area_value()}};
     if (src_scene) {
       const bench::Scene dec_scene(dec);
       for (int size : {render_size, render_small}) {

@@ -107,7 +107,10 @@ def per_model(jsonl, outdir):
 
 
 # --- BD-rate (issue 16) -------------------------------------------------------
-QUALITY = (("psnr", "surface"), ("psnr_render", "render"))
+# Surface PSNR by texel (each source texel alike: compare's default) and by
+# area (each face its 3D area: benchmarks/compare.cpp, Psnr::area_value),
+# and the render's.
+QUALITY = (("psnr", "surface"), ("psnr_render", "render"), ("psnr_area", "area"))
 
 
 def curve(r, names, key):
@@ -227,6 +230,22 @@ def bd_report(rows, outdir):
     lines.append(f"| **the same, over models where some point of ours has implicit UVs** | {ga('b1_surface')} | "
                  f"{ga('b1_render')} | {ga('b2_surface')} | {ga('b2_render')} | {up(gm_applies, 'surface')} | "
                  f"{up(gm_applies, 'render')} | | | | | | | | |")
+    lines += ["", "### The same by surface PSNR weighted by area", "",
+              "The surface PSNR above weighs each source texel alike (about one sample per texel), so a face weighs "
+              "its UV area. Weighted by each face's 3D area instead (`gltf-warp compare --weight area`), a face "
+              "with many texels on little surface (a densely textured eye, a cone's apex under a polar map) "
+              "weighs what a view of the whole surface shows of it.", "",
+              "| model | BD-rate vs B1, surface by area | BD-rate vs B2, surface by area "
+              "| next file up vs B1 / B2, surface by area | ceiling ours / B1, surface by area dB |",
+              "|---|---|---|---|---|"]
+    for d in ds:
+        lines.append(f"| {d['model']} | {bd_cell(d, 'b1', 'area')} | {bd_cell(d, 'b2', 'area')} | "
+                     f"{pct(d['next_up_b1_area'])} / {pct(d['next_up_b2_area'])} | "
+                     f"{f1(d['ceiling_ours_area'])} / {f1(d['ceiling_b1_area'])} |")
+    lines.append(f"| **geometric mean of (1 + BD-rate) − 1** | {g('b1_area')} | {g('b2_area')} | "
+                 f"{up(gm, 'area')} | |")
+    lines.append(f"| **the same, over models where some point of ours has implicit UVs** | {ga('b1_area')} | "
+                 f"{ga('b2_area')} | {up(gm_applies, 'area')} | |")
     lost = [d["model"] for d in ds if (d["bd_rate_b1_surface"] or 0) > 0]
     kept = [d["model"] for d in ds if d["ours_points_explicit"] == d["ours_points"]]
     lines += ["", "Lost against baseline 1 (BD-rate > 0, surface): " + (", ".join(lost) if lost else "none") + ".",
@@ -266,8 +285,9 @@ def diagnosis(rows):
              "Worst 1%: share of the squared error the worst 1% carry (surface: samples grouped by face, worst faces "
              "first; render: pixels). Per mip level: PSNR / share of the render's squared error / share of its "
              "pixels at the level the decoded file samples (1024 px views; 256 px views in the last column).", "",
-             "| model | point | surface dB | worst 1% surface | render dB | worst 1% render | mip 0 | mip 1 | mip 2 | mip 3+ "
-             "| render 256 px dB (worst 1%) |", "|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| model | point | surface dB | surface dB by area | worst 1% surface | render dB | worst 1% render "
+             "| mip 0 | mip 1 | mip 2 | mip 3+ | render 256 px dB (worst 1%) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         for p in r.get("rd", []):
             if (p["curve"], p["setting"]) not in (("ours", "default"), ("ours", "png"), ("b1", "jpeg q85"), ("b1", "png")):
@@ -279,7 +299,8 @@ def diagnosis(rows):
                             f"{100 * m['pixels'] / max(1, p.get('render_pixels', 1)):.0f}%")
             f = lambda k: "-" if p.get(k) is None else f"{p[k]:.1f}"
             s = lambda k: "-" if p.get(k) is None else f"{100 * p[k]:.0f}%"
-            lines.append(f"| {r['model']} | {p['curve']} {p['setting']} | {f('psnr')} | {s('surface_worst1_share')} | "
+            lines.append(f"| {r['model']} | {p['curve']} {p['setting']} | {f('psnr')} | {f('psnr_area')} | "
+                         f"{s('surface_worst1_share')} | "
                          f"{f('psnr_render')} | {s('render_worst1_share')} | " + " | ".join(mips) +
                          f" | {f('psnr_render_small')} ({s('render_small_worst1_share')}) |")
     return lines + [""]

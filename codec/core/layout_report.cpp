@@ -14,16 +14,7 @@ namespace gltfwarp {
 double length3(const TriMesh& m, uint32_t u, uint32_t w) { return std::sqrt(length3_sq(m, u, w)); }
 
 double face_area3(const TriMesh& m, uint32_t f) {
-  const float* p = m.positions.data();
-  const uint32_t* t = &m.indices[3 * f];
-  double e1[3], e2[3];
-  for (int k = 0; k < 3; ++k) {
-    e1[k] = double(p[3 * t[1] + k]) - double(p[3 * t[0] + k]);
-    e2[k] = double(p[3 * t[2] + k]) - double(p[3 * t[0] + k]);
-  }
-  const double cx = e1[1] * e2[2] - e1[2] * e2[1], cy = e1[2] * e2[0] - e1[0] * e2[2],
-               cz = e1[0] * e2[1] - e1[1] * e2[0];
-  return 0.5 * std::sqrt(cx * cx + cy * cy + cz * cz);
+  return triangle_area3(m.positions.data(), &m.indices[3 * f]);
 }
 
 namespace {

@@ -8,6 +8,7 @@
 #include <OpenImageIO/imagebuf.h>
 
 #include "codec/core/corner_match.h"
+#include "codec/core/mesh.h"
 #include "codec/encode/texture/texture_sampler.h"
 #include "format/gltf/gltf_materials.h"
 #include "format/gltf/gltf_primitive.h"
@@ -187,6 +188,8 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
       r.unmatched_faces += match.unmatched_faces;
       r.primitives++;
       std::vector<float> b(static_cast<size_t>(std::max(3, di.pixels.nchannels())));
+      const bool by_area = options.weight == SampleWeight::surface_area;
+      const std::vector<float> source_xyz = by_area ? spos->to_floats() : std::vector<float>{};
       for (size_t f = 0; f < dg.triangles.size() / 3; ++f) {
         const uint32_t sc0 = match.source_corner[3 * f];
         if (sc0 == 0 && match.source_corner[3 * f + 1] == 0) continue;  // unmatched
@@ -206,6 +209,11 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
           su[c] = suv->get(sv_id, 0), sv[c] = suv->get(sv_id, 1);
           du[c] = duv->get(dv_id, 0), dv[c] = duv->get(dv_id, 1);
         }
+        // surface_area: the face's 3D area (the source's), shared by its points below.
+        uint32_t source_vertex[3];
+        for (int c = 0; c < 3; ++c) source_vertex[c] = sg.triangles[match.source_corner[3 * f + c]];
+        const double face_area = by_area ? triangle_area3(source_xyz.data(), source_vertex) : 1.0;
+        double point_weight = 1;
         auto visit = [&](double w0, double w1, double w2) {
           si.sample(w0 * su[0] + w1 * su[1] + w2 * su[2], w0 * sv[0] + w1 * sv[1] + w2 * sv[2], a.data());
           di.sample(w0 * du[0] + w1 * du[1] + w2 * du[2], w0 * dv[0] + w1 * dv[1] + w2 * dv[2], b.data());
@@ -217,13 +225,14 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
           }
           for (int c = 0; c < channels; ++c) {
             const double d = 255.0 * (a[c] - b[c]);
-            sq += d * d;
-            weight += 1;
+            sq += d * d * point_weight;
+            weight += point_weight;
             r.max_abs = std::max(r.max_abs, std::abs(d));
           }
           r.samples++;
         };
         if (options.samples_per_face > 0) {
+          if (by_area) point_weight = face_area / options.samples_per_face;
           for (int s = 0; s < options.samples_per_face; ++s) {
             // Interior points spread over the triangle (low-discrepancy weights).
             const double u = (s + 0.5) / options.samples_per_face, v = std::fmod(0.618034 * (s + 1), 1.0);
@@ -232,13 +241,16 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
         } else {
           const double area =
               0.5 * std::abs((su[1] - su[0]) * (sv[2] - sv[0]) - (su[2] - su[0]) * (sv[1] - sv[0]));
-          for_each_surface_point(surface_points_per_side(area * src_texels), visit);
+          const int side_points = surface_points_per_side(area * src_texels);
+          if (by_area) point_weight = face_area / (double(side_points) * side_points);
+          for_each_surface_point(side_points, visit);
         }
       }
     }
   }
   if (weight == 0) {
-    r.error = "no textured primitive to compare";
+    r.error = r.samples > 0 ? "the textured faces have no surface area to weigh"
+                            : "no textured primitive to compare";
     return r;
   }
   r.rmse = std::sqrt(sq / weight);

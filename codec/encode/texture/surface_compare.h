@@ -4,6 +4,7 @@
 // no lighting: a stand-in for an unlit render that needs no browser.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,19 @@ struct SurfaceComparison {
   std::string error;  // empty when the comparison ran
 };
 
+// What each surface point weighs in the mean.
+enum class SampleWeight : uint8_t {
+  // Every point alike, about one per source texel: the mean over the
+  // source's texels, so a face weighs its UV area. Detail an artist gave
+  // many texels (eyes, labels) counts as much as it holds.
+  source_texel,
+  // Each point its face's 3D area over the face's point count: the mean over
+  // the surface itself, as a view that sees all of it evenly shows it. A face
+  // whose UVs cover many texels on little surface (a cone's apex under a
+  // polar map) weighs its area, not its texels.
+  surface_area,
+};
+
 struct SurfaceCompareOptions {
   std::string slot = "baseColorTexture";  // which material slot to compare
   // Interior points per triangle; 0: about one per source texel the face
@@ -30,6 +44,7 @@ struct SurfaceCompareOptions {
   // point through the file's own NORMAL and TANGENT under three fixed lights
   // (Lambert, 0..255 per light). Primitives without both are skipped.
   bool lit = false;
+  SampleWeight weight = SampleWeight::source_texel;
 };
 
 // `source` and `decoded` are the same scene before encoding and after
