@@ -1,5 +1,6 @@
 // The CLI as a user meets it: --help on every verb, one-line errors with a
 // non-zero exit on bad input, and no partial output files.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -53,6 +54,8 @@ TEST(Cli, BadInputGivesOneLineErrorAndNoOutput) {
     expect_one_line_failure("info " + dir + "/" + f);
     EXPECT_FALSE(fs::exists(dir + "/out.glb"));
   }
+  expect_one_line_failure("compare --weight volume " + dir + "/broken.gltf " + dir + "/broken.gltf",
+                          "--weight");
   expect_one_line_failure("encode " + dir + "/missing.glb -o " + dir + "/out.glb");
   expect_one_line_failure("encode");
   expect_one_line_failure("frobnicate");
@@ -86,6 +89,17 @@ TEST(Cli, SampleEncodeDecodeInfo) {
   EXPECT_NE(out.find("\"bitstream_bytes\""), std::string::npos) << out;
   ASSERT_EQ(run_command(cli() + " decode " + dir + "/e.glb -o " + dir + "/d.gltf 2>&1", &out), 0) << out;
   EXPECT_TRUE(fs::exists(dir + "/d.bin"));
+  // The round trip compared both ways (per texel, by area): each a PSNR.
+  for (const std::string weight : {"texel", "area"}) {
+    ASSERT_EQ(run_command(
+                  cli() + " compare --weight " + weight + " " + dir + "/s.glb " + dir + "/d.gltf 2>&1", &out),
+              0)
+        << out;
+    double db = 0;
+    ASSERT_EQ(std::sscanf(out.c_str(), "surface PSNR %lf dB", &db), 1) << out;
+    EXPECT_GT(db, 30.0) << out;
+    EXPECT_EQ(out.find("weighted by surface area") != std::string::npos, weight == "area") << out;
+  }
 }
 
 // --layout mixed writes format 1.4 (the solve on cotangent weights), and
