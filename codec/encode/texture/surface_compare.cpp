@@ -203,15 +203,14 @@ SurfaceComparison compare_surface(const tinygltf::Model& src, const tinygltf::Mo
             double(si.pixels.spec().width) * si.pixels.spec().height *
             std::abs(si.transform[0] * si.transform[4] - si.transform[1] * si.transform[3]);
         double su[3], sv[3], du[3], dv[3];
+        uint32_t source_vertex[3];
         for (int c = 0; c < 3; ++c) {
-          const uint32_t sv_id = sg.triangles[match.source_corner[3 * f + c]];
+          const uint32_t sv_id = source_vertex[c] = sg.triangles[match.source_corner[3 * f + c]];
           const uint32_t dv_id = dg.triangles[3 * f + c];
           su[c] = suv->get(sv_id, 0), sv[c] = suv->get(sv_id, 1);
           du[c] = duv->get(dv_id, 0), dv[c] = duv->get(dv_id, 1);
         }
         // surface_area: the face's 3D area (the source's), shared by its points below.
-        uint32_t source_vertex[3];
-        for (int c = 0; c < 3; ++c) source_vertex[c] = sg.triangles[match.source_corner[3 * f + c]];
         const double face_area = by_area ? triangle_area3(source_xyz.data(), source_vertex) : 1.0;
         double point_weight = 1;
         auto visit = [&](double w0, double w1, double w2) {
