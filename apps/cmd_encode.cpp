@@ -66,7 +66,8 @@ std::string density_text(const EncodeOptions& o) {
 Runner add_encode(CLI::App& app) {
   struct Args {
     std::vector<std::string> inputs;
-    std::string out, geometry, partition, layout, orientation, texel_density, texel_budget, quality;
+    std::string out, geometry, partition, layout, orientation, texel_density, texel_budget, quality,
+        quality_weight;
     EncodeOptions opt;
     BatchOptions batch;
     std::string shard, worker_in, worker_out;  // worker_*: one file of a batch, in a child (batch_encode.h)
@@ -173,6 +174,13 @@ Runner add_encode(CLI::App& app) {
                  "floor); the same as that --target-psnr")
       ->check(CLI::IsMember({"high", "medium", "low"}))
       ->excludes(target);
+  app.add_option(
+         "--quality-weight", a->quality_weight,
+         "What the floor and the target weigh: texel (each source texel alike, so a face counts by its "
+         "UV area) or area (each face by its 3D area, as `compare --weight area`: where the source "
+         "puts many texels on little surface, such as a polar map's pole, fewer atlas texels follow)")
+      ->default_val("texel")
+      ->check(CLI::IsMember({"texel", "area"}));
   app.add_flag(
       "!--fixed-density", a->opt.adaptive_density,
       "Keep every patch at its measured density (default: patches whose content is smooth have their "
@@ -203,6 +211,7 @@ Runner add_encode(CLI::App& app) {
     opt.greedy_partition = a->partition == "greedy";
     opt.mixed_layout = a->layout == "mixed";
     opt.orient_to_source = a->orientation == "source";
+    if (a->quality_weight == "area") opt.quality_weight = QualityWeight::surface_area;
     if (!a->quality.empty()) opt.goal_psnr = a->quality == "high" ? 44 : a->quality == "medium" ? 40 : 38;
     opt.texel_budget = a->texel_budget == "used"  ? DensityMode::preserve_used_texels
                        : a->texel_budget == "p90" ? DensityMode::percentile

@@ -56,6 +56,8 @@ TEST(Cli, BadInputGivesOneLineErrorAndNoOutput) {
   }
   expect_one_line_failure("compare --weight volume " + dir + "/broken.gltf " + dir + "/broken.gltf",
                           "--weight");
+  expect_one_line_failure("encode --quality-weight volume " + dir + "/broken.gltf -o " + dir + "/x.glb",
+                          "--quality-weight");
   expect_one_line_failure("encode " + dir + "/missing.glb -o " + dir + "/out.glb");
   expect_one_line_failure("encode");
   expect_one_line_failure("frobnicate");

@@ -246,7 +246,7 @@ TEST(FallbackImages, FewerTexelsShowWhatTheSourceShowsWhenMinified) {
       EXPECT_GT(report.primitives[0].fallback.images_downscaled, 0u);
       std::vector<float> corners;
       ASSERT_NO_FATAL_FAILURE(source_face_uvs(source, corners));
-      const SurfaceUvs faces[] = {{corners, corners, {}}};
+      const SurfaceUvs faces[] = {{corners, corners, {}, {}}};
       TextureSampler s, a;
       load_texture_sampler(before, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, s);
       load_texture_sampler(after, true, 10497, 10497, {1, 0, 0, 0, 1, 0}, a);

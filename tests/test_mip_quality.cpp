@@ -29,7 +29,7 @@ TEST(MipQuality, IdenticalIs99AtEveryLevelAndALocalDefectShowsInTheWorstRegion) 
   std::vector<float> uv;
   std::vector<uint32_t> patch;
   grid(16, uv, patch);
-  const SurfaceUvs prims[] = {{uv, uv, patch}};
+  const SurfaceUvs prims[] = {{uv, uv, patch, {}}};
   const MipQuality same = mip_surface_error(a, b, prims);
   for (int l = 0; l < kMipLevels; ++l) {
     EXPECT_GT(same.level[l].values, 0u) << l;
@@ -56,7 +56,7 @@ TEST(MipQuality, IdenticalIs99AtEveryLevelAndALocalDefectShowsInTheWorstRegion) 
   // above its mean.
   std::vector<uint32_t> spread = patch;
   for (uint32_t& g : spread) g = 3 * g + 1;
-  const SurfaceUvs gapped[] = {{uv, uv, spread}};
+  const SurfaceUvs gapped[] = {{uv, uv, spread, {}}};
   const MipQuality qg = mip_surface_error(a, b, gapped);
   for (int l = 0; l < kMipLevels; ++l) EXPECT_EQ(qg.worst_psnr[l], q.worst_psnr[l]) << "level " << l;
   // The chain halves each level and keeps the mean.

@@ -119,7 +119,7 @@ double warped_psnr(const OIIO::ImageBuf& source, const RotatedPatch& patch, int 
   TextureSampler before, after;
   load_texture_sampler(source, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, before);
   load_texture_sampler(out, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, after);
-  const SurfaceUvs uvs[1] = {{patch.src, patch.atlas, {}}};
+  const SurfaceUvs uvs[1] = {{patch.src, patch.atlas, {}, {}}};
   return surface_error(before, after, uvs).psnr();
 }
 

@@ -65,7 +65,7 @@ TEST(TexelReach, MipQualityIgnoresWhatTheSourceHoldsWhereNoFaceSamples) {
   load_texture_sampler(repainted, true, 33071, 33071, {1, 0, 0, 0, 1, 0}, s2);
   load_texture_sampler(test::noise_image(n, 13), true, 33071, 33071, {1, 0, 0, 0, 1, 0}, atlas);
   const std::vector<uint32_t> patch = {0};
-  const SurfaceUvs prims[] = {{kTriangle, kTriangle, patch}};
+  const SurfaceUvs prims[] = {{kTriangle, kTriangle, patch, {}}};
   const MipQuality q1 = mip_surface_error(s1, atlas, prims), q2 = mip_surface_error(s2, atlas, prims);
   for (int l = 0; l < kMipLevels; ++l) {
     EXPECT_GT(q1.level[l].values, 0u);

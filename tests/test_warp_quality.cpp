@@ -32,11 +32,11 @@ TEST(WarpQuality, IdenticalIs99AndAShiftIsSeen) {
   load_texture_sampler(checker(64, 1), true, 33071, 33071, id, a);
   load_texture_sampler(checker(64, 1), true, 33071, 33071, id, b);
   const std::vector<float> uv = square(0, 0), shifted = square(0.5f / 64, 0);
-  const SurfaceUvs same[] = {{uv, uv, {}}};
+  const SurfaceUvs same[] = {{uv, uv, {}, {}}};
   const SurfaceError e = surface_error(a, b, same);
   EXPECT_GT(e.values, 3u * 64 * 64 / 2) << "about one point per texel";
   EXPECT_EQ(e.psnr(), 99.0);
-  const SurfaceUvs off[] = {{uv, shifted, {}}};
+  const SurfaceUvs off[] = {{uv, shifted, {}, {}}};
   EXPECT_LT(surface_error(a, b, off).psnr(), 20.0) << "half a texel on a 1-texel checker";
   // The source transform is applied: a source scaled 2x about 0 samples like
   // the atlas at double the UVs.
@@ -44,7 +44,7 @@ TEST(WarpQuality, IdenticalIs99AndAShiftIsSeen) {
   load_texture_sampler(checker(64, 1), true, 33071, 33071, {0.5, 0, 0, 0, 0.5, 0}, scaled);
   const std::vector<float> doubled = square(0, 0),
                            half = {0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0.5f};
-  const SurfaceUvs tx[] = {{doubled, half, {}}};
+  const SurfaceUvs tx[] = {{doubled, half, {}, {}}};
   EXPECT_EQ(surface_error(scaled, b, tx).psnr(), 99.0);
 }
 
@@ -56,7 +56,7 @@ TEST(WarpQuality, PointBudgetSpreadsOverFaces) {
     const std::vector<float> s = square(float(i % 7) / 7, 0);
     uv.insert(uv.end(), s.begin(), s.end());
   }
-  const SurfaceUvs prims[] = {{uv, uv, {}}};
+  const SurfaceUvs prims[] = {{uv, uv, {}, {}}};
   const SurfaceError e = surface_error(a, a, prims, 100'000);
   EXPECT_LE(e.points, 100'000u);
   EXPECT_GT(e.points, 20'000u);
@@ -85,7 +85,7 @@ TEST(WarpQuality, ThinnedMeasureFindsErrorInFewFaces) {
     moved.insert(moved.end(), s.begin(), s.begin() + 6);
     moved.insert(moved.end(), m.begin() + 6, m.end());
   }
-  const SurfaceUvs prims[] = {{uv, moved, {}}};
+  const SurfaceUvs prims[] = {{uv, moved, {}, {}}};
   const SurfaceError full = surface_error(a, a, prims, 100'000'000),
                      thinned = surface_error(a, a, prims, 50'000);
   ASSERT_LT(full.psnr(), 40.0);
@@ -105,7 +105,7 @@ TEST(WarpQuality, PerGroupErrorsAddUp) {
   std::vector<float> uv = square(0, 0), moved = square(0, 0);
   for (int i = 6; i < 12; i += 2) moved[size_t(i)] += 0.5f / 64;  // second face shifted half a texel
   const std::vector<uint32_t> groups = {3, 1};
-  const SurfaceUvs prims[] = {{uv, moved, groups}};
+  const SurfaceUvs prims[] = {{uv, moved, groups, {}}};
   std::vector<SurfaceError> per;
   const SurfaceError total = surface_error(a, a, prims, 4'000'000, &per);
   ASSERT_EQ(per.size(), 4u);
@@ -132,7 +132,7 @@ TEST(WarpQuality, FiguresDoNotDependOnTheThreadCount) {
     au.insert(au.end(), a, a + 6);
     groups.push_back(uint32_t(i % 50));
   }
-  const SurfaceUvs prims[] = {{su, au, groups}};
+  const SurfaceUvs prims[] = {{su, au, groups, {}}};
   auto measure = [&](int threads, std::vector<SurfaceError>& per, MipQuality& mip) {
     int before = 0;
     OIIO::getattribute("threads", before);

@@ -227,6 +227,30 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
   return bytes;
 }
 
+// QualityWeight::surface_area: each member face's UV area at the group's
+// mean UV area per 3D area (SurfaceUvs::face_area_uv), so every measure of
+// the group weighs a face by its surface. One ratio for the whole group:
+// its members' errors add up, page by page and against explicit UVs.
+void weigh_faces_by_area(ImplicitPlan& plan, const AtlasGroup& group) {
+  double uv_area = 0, surface = 0;
+  for (size_t m : group.members) {
+    const ImplicitPrimitive& ip = plan.prims[m];
+    for (uint32_t f = 0; f < ip.tri.face_count(); ++f) {
+      uv_area += face_area_texels(ip.source_uv, f, 1, 1);
+      surface += triangle_area3(ip.tri.positions.data(), &ip.tri.indices[3 * size_t(f)]);
+    }
+  }
+  if (!(surface > 0) || !(uv_area > 0)) return;  // nothing to weigh by: per texel
+  const double uv_per_area = uv_area / surface;
+  for (size_t m : group.members) {
+    ImplicitPrimitive& ip = plan.prims[m];
+    ip.face_area_uv.resize(ip.tri.face_count());
+    for (uint32_t f = 0; f < ip.tri.face_count(); ++f)
+      ip.face_area_uv[f] =
+          float(uv_per_area * triangle_area3(ip.tri.positions.data(), &ip.tri.indices[3 * size_t(f)]));
+  }
+}
+
 // The quality a group's density aims at (quality_aim).
 struct QualityAim {
   double goal = 0;      // dB
@@ -582,6 +606,7 @@ Error finish_implicit_uvs(tinygltf::Model& model, ImplicitPlan& plan, const Enco
     if (options.progress) options.progress("atlas", double(gi) / double(plan.groups.size()));
     GroupAtlas built;
     SourceImages sources;
+    if (options.quality_weight == QualityWeight::surface_area) weigh_faces_by_area(plan, group);
     const QualityAim aim = quality_aim(model, group, options);
     // The options this group is written with: the coder quality rate
     // control chose, where it ran.

@@ -16,6 +16,9 @@
 
 namespace gltfwarp {
 
+// EncodeOptions::quality_weight.
+enum class QualityWeight : uint8_t { source_texel, surface_area };
+
 struct EncodeOptions {
   DracoOptions draco;             // quantization bits (defaults of common tools)
   bool raw_geometry = false;      // --geometry raw: float accessors, no Draco
@@ -67,6 +70,12 @@ struct EncodeOptions {
   // Below it, the density goes up by each of density_boosts in turn; still
   // below, the group keeps explicit UVs (unless quality_fallback is false).
   double min_psnr = -1;
+  // What the floor, the goal and a target weigh each surface point by
+  // (--quality-weight): every source texel alike (a face counts by its UV
+  // area), or each face by its 3D area (by what a view of the whole
+  // surface shows of it: a face with many texels on little surface, such
+  // as a polar map's pole, counts by its surface).
+  QualityWeight quality_weight = QualityWeight::source_texel;
   std::vector<double> density_boosts = {1.5, 2.0};
   bool quality_fallback = true;
   // With the floor on: give patches whose content is smooth half their

@@ -29,8 +29,8 @@ std::vector<SurfaceUvs> faces_sampling(const tinygltf::Model& model, const Impli
   for (size_t k = 0; k < group.members.size(); ++k) {
     const auto& ip = plan.prims[group.members[k]];
     if (samples_image(model, ip, image))
-      uvs.push_back(
-          {ip.source_uv, ip.explicit_uv.empty() ? ip.source_uv : ip.explicit_uv, built.group_patch[k]});
+      uvs.push_back({ip.source_uv, ip.explicit_uv.empty() ? ip.source_uv : ip.explicit_uv,
+                     built.group_patch[k], ip.face_area_uv});
   }
   return uvs;
 }

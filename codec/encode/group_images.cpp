@@ -151,7 +151,8 @@ std::vector<SurfaceUvs> page_surface_uvs(const tinygltf::Model& model, const Imp
   std::vector<SurfaceUvs> uvs;
   for (size_t k : built.pages[page]) {
     const auto& ip = plan.prims[group.members[k]];
-    if (samples_image(model, ip, image)) uvs.push_back({ip.source_uv, ip.corner_uv, built.group_patch[k]});
+    if (samples_image(model, ip, image))
+      uvs.push_back({ip.source_uv, ip.corner_uv, built.group_patch[k], ip.face_area_uv});
   }
   return uvs;
 }

@@ -44,6 +44,10 @@ struct ImplicitPrimitive {
   std::vector<int32_t> reuse_of;
   std::vector<uint32_t> twin_corner;
   std::vector<float> corner_uv;  // final UVs (decode_uvs output)
+  // Per face, under QualityWeight::surface_area: the UV area the face would
+  // cover at its group's mean UV area per 3D area (SurfaceUvs::face_area_uv).
+  // Empty: the measures weigh source texels.
+  std::vector<float> face_area_uv;
   bool had_tangents = false;
   // The primitive as the source had it, accessors included (they stay in the
   // model until compact_buffers), for a fall back to explicit UVs.

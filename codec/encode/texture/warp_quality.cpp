@@ -31,6 +31,10 @@ FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texel
           surface_points_per_side(face_area_texels(prims[p].source_uv, uint32_t(f), 1, 1) * source_texels);
       out.side[p][f] = n;
       total += uint64_t(n) * n;
+      // By 3D area: the face's points together weigh the texels its
+      // surface would hold at the mean density, not the n^2 they stand for.
+      if (f < prims[p].face_area_uv.size())
+        out.weight[p][f] = double(prims[p].face_area_uv[f]) * source_texels / (double(n) * n);
     }
   }
   if (total > max_points) {
@@ -39,7 +43,7 @@ FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texel
       for (size_t f = 0; f < out.side[p].size(); ++f) {
         const int n = out.side[p][f], thinned = std::max(1, int(std::floor(n * shrink)));
         out.side[p][f] = thinned;
-        out.weight[p][f] = double(n) * n / (double(thinned) * thinned);
+        out.weight[p][f] *= double(n) * n / (double(thinned) * thinned);
       }
   }
   for (uint32_t p = 0; p < prims.size(); ++p)

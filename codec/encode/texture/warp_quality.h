@@ -33,6 +33,11 @@ struct SurfaceUvs {
   // Optional, one per face: the error of each face also goes to
   // per_group[group_of_face[f]] (e.g. per patch), when per_group is given.
   std::span<const uint32_t> group_of_face;
+  // Optional, one per face: the UV area (in UV units, as source_uv's) the
+  // face would cover at its group's mean texels per 3D area. Given, a face
+  // weighs that many texels' worth instead of the texels it holds: the
+  // mean is then over the 3D surface (EncodeOptions::quality_weight).
+  std::span<const float> face_area_uv;
 };
 
 // Compares `atlas` at atlas_uv with `source` at source_uv over every face of
