@@ -33,7 +33,12 @@ int encode_file(const std::string& in, const std::string& out, EncodeOptions opt
   const std::string err = write_gltf(model, out);
   if (!err.empty()) return fail(err);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  if (summary == Summary::table) print_encode_report(report, in, out, secs);
+  if (summary == Summary::table) {
+    print_encode_report(report, in, out, secs);
+    // Every dB figure above is the encoder's own measure: say which.
+    if (opt.quality_weight == QualityWeight::surface_area && !report.atlases.empty())
+      std::printf("surface PSNR figures weigh each face by its 3D area (--quality-weight area)\n");
+  }
   if (summary == Summary::json) std::printf("%s\n", encode_summary(report).dump().c_str());
   return 0;
 }

@@ -818,6 +818,7 @@ int main(int argc, char** argv) {
       int quality = 0;
       bool fixed_density = false;
       double target_psnr = -1;  // EncodeOptions::goal_psnr (-1: the default aim)
+      bool by_area = false;     // EncodeOptions::quality_weight: surface_area (encode --quality-weight area)
     };
     std::vector<Variant> vs = {
         {"fixed density", "keep", 0, true},
@@ -826,7 +827,9 @@ int main(int argc, char** argv) {
         {"png traded down", "png", 0, false, 0},
         // Rate control: the JPEG quality chosen for the target (--quality medium, high).
         {"jpeg target 40", "jpeg", 0, false, 40},
-        {"jpeg target 44", "jpeg", 0, false, 44}};
+        {"jpeg target 44", "jpeg", 0, false, 44},
+        // The default with its floor and aim weighed by 3D area, not per texel.
+        {"default by area", "keep", 0, false, -1, true}};
     for (int q : ladder) vs.push_back({"jpeg q" + std::to_string(q), "jpeg", q, false});
     for (const auto& v : vs) {
       EncodeOptions o = defaults;
@@ -834,6 +837,7 @@ int main(int argc, char** argv) {
       o.image_quality = v.quality;
       o.adaptive_density = !v.fixed_density;
       o.goal_psnr = v.target_psnr;
+      o.quality_weight = v.by_area ? QualityWeight::surface_area : QualityWeight::source_texel;
       Timed t = encode(src, o);
       const std::string p = work + "/ours_variant.glb";
       save(t.model, p);

@@ -290,7 +290,7 @@ def diagnosis(rows):
              "|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         for p in r.get("rd", []):
-            if (p["curve"], p["setting"]) not in (("ours", "default"), ("ours", "png"), ("b1", "jpeg q85"), ("b1", "png")):
+            if (p["curve"], p["setting"]) not in (("ours", "default"), ("ours", "default by area"), ("ours", "png"), ("b1", "jpeg q85"), ("b1", "png")):
                 continue
             mips = []
             for m in p.get("render_by_mip", [{}] * 4):

@@ -102,6 +102,14 @@ TEST(Cli, SampleEncodeDecodeInfo) {
     EXPECT_GT(db, 30.0) << out;
     EXPECT_EQ(out.find("weighted by surface area") != std::string::npos, weight == "area") << out;
   }
+  // Encoded by area, the report says whose dB its figures are.
+  ASSERT_EQ(run_command(cli() + " encode --always-implicit --quality-weight area " + dir + "/s.glb -o " +
+                            dir + "/a.glb 2>&1",
+                        &out),
+            0)
+      << out;
+  EXPECT_NE(out.find("implicit-uv"), std::string::npos) << out;
+  EXPECT_NE(out.find("weigh each face by its 3D area"), std::string::npos) << out;
 }
 
 // --layout mixed writes format 1.4 (the solve on cotangent weights), and
