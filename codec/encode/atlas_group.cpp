@@ -9,6 +9,7 @@
 #include <map>
 #include <set>
 
+#include "codec/core/layout_report.h"
 #include "codec/core/parallel.h"
 #include "codec/encode/atlas/texel_density.h"
 #include "codec/encode/explicit_alternative.h"
@@ -232,22 +233,22 @@ size_t replaceable_source_bytes(const tinygltf::Model& model, const AtlasGroup& 
 // the group weighs a face by its surface. One ratio for the whole group:
 // its members' errors add up, page by page and against explicit UVs.
 void weigh_faces_by_area(ImplicitPlan& plan, const AtlasGroup& group) {
+  std::vector<std::vector<double>> surfaces;  // per member, per face: its 3D area
   double uv_area = 0, surface = 0;
   for (size_t m : group.members) {
     const ImplicitPrimitive& ip = plan.prims[m];
+    std::vector<double>& faces = surfaces.emplace_back(ip.tri.face_count());
     for (uint32_t f = 0; f < ip.tri.face_count(); ++f) {
       uv_area += face_area_texels(ip.source_uv, f, 1, 1);
-      surface += triangle_area3(ip.tri.positions.data(), &ip.tri.indices[3 * size_t(f)]);
+      surface += faces[f] = face_area3(ip.tri, f);
     }
   }
   if (!(surface > 0) || !(uv_area > 0)) return;  // nothing to weigh by: per texel
   const double uv_per_area = uv_area / surface;
-  for (size_t m : group.members) {
-    ImplicitPrimitive& ip = plan.prims[m];
-    ip.face_area_uv.resize(ip.tri.face_count());
-    for (uint32_t f = 0; f < ip.tri.face_count(); ++f)
-      ip.face_area_uv[f] =
-          float(uv_per_area * triangle_area3(ip.tri.positions.data(), &ip.tri.indices[3 * size_t(f)]));
+  for (size_t k = 0; k < group.members.size(); ++k) {
+    std::vector<float>& weights = plan.prims[group.members[k]].face_area_uv;
+    weights.resize(surfaces[k].size());
+    for (size_t f = 0; f < weights.size(); ++f) weights[f] = float(uv_per_area * surfaces[k][f]);
   }
 }
 
