@@ -10,6 +10,7 @@
 
 #include "format/bitstream/decode_uvs.h"
 #include "format/bitstream/uvmap_codec.h"
+#include "fuzz/fuzz_mesh.h"
 #include "test_bitstream_util.h"
 
 using namespace gltfwarp;
@@ -230,6 +231,57 @@ TEST(Bitstream, RandomCorruptionNeverCrashes) {
     }
   }
   EXPECT_GT(rejected, 0);
+}
+
+// Whatever reads also writes back to a stream that reads the same map, for
+// streams that use every flag (seeds, a solve on cotangent weights, fine
+// placements): corrupt bits may clear every method bit, say, and the map read
+// must still be the one the writer writes for it.
+TEST(Bitstream, DecodedMapsWriteBackToThemselves) {
+  std::mt19937 rng(91);
+  const TriMesh mesh = make_grid(5, 5);
+  UvMap map = simple_map(mesh, 3, 5);
+  add_random_seeds(map, rng);
+  add_random_fine(map, rng);
+  map.methods.assign(map.patch_count, 0);
+  map.methods[1] = 1;
+  map.solve.cotangent_weights = true;
+  const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
+  int decoded = 0, without_methods = 0;
+  for (int trial = 0; trial < 20000; ++trial) {
+    auto b = bytes;
+    const int flips = 1 + static_cast<int>(rng() % 3);
+    for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    UvMap out;
+    if (read_uvmap(b, mesh, out) != UvStatus::ok) continue;
+    ++decoded;
+    if ((b[6] & kUvFlagMethods) && out.methods.empty()) ++without_methods;
+    std::vector<uint8_t> again;
+    ASSERT_EQ(write_uvmap(out, mesh, again), UvStatus::ok) << "trial " << trial;
+    UvMap back;
+    ASSERT_EQ(read_uvmap(again, mesh, back), UvStatus::ok) << "trial " << trial;
+    ASSERT_TRUE(back == out) << "trial " << trial;
+  }
+  EXPECT_GT(decoded, 100);
+  EXPECT_GT(without_methods, 0);  // the case the fuzzer found is among them
+}
+
+// The fuzzer's finding (CI, 2026-12-07): a 1.4 stream whose METHODS flag is
+// set while every patch unfolds. It reads as the map without methods.
+TEST(Bitstream, MethodsWithoutASolveReadAsNoMethods) {
+  const std::vector<uint8_t> bytes = {
+      'G',  'W',  'U',  'V',  0x01, 0x04, 0x2a, 0x41, 0x47, 0x55, 0xfb, 0x01, 0x00, 0x2f, 0x5f, 0x0a,
+      0x85, 0x55, 0xc5, 0x0b, 0x01, 0x02, 0x0a, 0x2f, 0x5b, 0x0a, 0x85, 0x01, 0x00, 0x00, 0x00, 0x30,
+      0x0a, 0x0a, 0x2a, 0x0a, 0x0a, 0x3d, 0x0a, 0x0a, 0x0a, 0x0a, 0x00, 0x0a, 0xae, 0x24, 0x00};
+  const TriMesh mesh = fuzz_mesh();
+  UvMap map;
+  ASSERT_EQ(read_uvmap(bytes, mesh, map), UvStatus::ok);
+  EXPECT_NE(bytes[6] & kUvFlagMethods, 0);
+  EXPECT_TRUE(map.methods.empty());
+  EXPECT_TRUE(map.solve == SolveParams{});
+  UvMap back;
+  ASSERT_EQ(read_uvmap(write_uvmap(map, mesh), mesh, back), UvStatus::ok);
+  EXPECT_TRUE(back == map);
 }
 
 TEST(Bitstream, WriterRejectsInvalidMaps) {

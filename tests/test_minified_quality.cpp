@@ -18,9 +18,7 @@ using test::corpus_models;
 
 TEST(CorpusMinified, TruckHoldsItsQualityAtEveryMipLevel) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : corpus_models())
-    if (m.name == "CesiumMilkTruck") path = m.path;
+  const std::string path = corpus_path("CesiumMilkTruck");
   ASSERT_FALSE(path.empty());
   tinygltf::Model model;
   ASSERT_TRUE(read_gltf(path, model).ok);

@@ -45,9 +45,7 @@ TEST(QualityWeight, SampledFacesWeighTheirSurface) {
 // per-texel encode: the texel-weighted surface PSNR falls, the file shrinks.
 TEST(QualityWeight, TheDuckByAreaReachesItsAimAsCompareMeasuresIt) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : test::corpus_models())
-    if (m.name == "Duck") path = m.path;
+  const std::string path = test::corpus_path("Duck");
   ASSERT_FALSE(path.empty()) << "Duck is not in the corpus";
   tinygltf::Model source;
   ASSERT_TRUE(read_gltf(path, source).ok);

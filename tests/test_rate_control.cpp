@@ -31,9 +31,7 @@ QualityTrial jpeg_like(int q) { return {size_t(std::lround(1000.0 * std::exp(q /
 // density adaptation: `set`.
 ::testing::AssertionResult encode_duck_jpeg(const std::function<void(EncodeOptions&)>& set,
                                             AtlasReport& atlas) {
-  std::string path;
-  for (const auto& m : corpus_models())
-    if (m.name == "Duck") path = m.path;
+  const std::string path = corpus_path("Duck");
   if (path.empty()) return ::testing::AssertionFailure() << "Duck is not in the corpus";
   tinygltf::Model model;
   if (!read_gltf(path, model).ok) return ::testing::AssertionFailure() << "cannot read " << path;

@@ -184,13 +184,6 @@ void check_round_trip(const std::string& name, const std::string& src, const std
   }
 }
 
-// The .gltf or .glb of the corpus model `name`; empty when absent.
-std::string corpus_path(const std::string& name) {
-  for (const auto& m : corpus_models())
-    if (m.name == name) return m.path;
-  return {};
-}
-
 // Encodes the corpus model `name` in process; its report must hold exactly
 // one atlas (the models these tests use have one textured material).
 ::testing::AssertionResult encode_corpus(const std::string& name, const EncodeOptions& options,

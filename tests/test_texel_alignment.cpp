@@ -246,9 +246,7 @@ TEST(TexelAlignment, FlatModelKeepsItsSourceTexels) {
 // and the file is smaller than the explicit-UV one at the floor.
 TEST(TexelAlignment, VertexColorTestLabelsKeepTheirTexels) {
   GLTFWARP_REQUIRE_CORPUS();
-  std::string path;
-  for (const auto& m : test::corpus_models())
-    if (m.name == "VertexColorTest") path = m.path;
+  const std::string path = test::corpus_path("VertexColorTest");
   ASSERT_FALSE(path.empty()) << "VertexColorTest is not in the corpus";
   size_t bytes[2] = {0, 0};
   for (int align = 0; align < 2; ++align) {

@@ -55,7 +55,8 @@ struct UvMap {
   std::vector<uint32_t> seeds;
   // Format 1.2: each patch's LayoutMethod (codec/core/layout.h), one per
   // patch, and the solve's iteration counts. Empty: every patch unfolds (a
-  // writer given only unfold methods writes the same stream as without).
+  // writer given only unfold methods writes the same stream as without, and
+  // a reader returns them empty, with default `solve`, when no patch solves).
   std::vector<uint8_t> methods;
   SolveParams solve;
 

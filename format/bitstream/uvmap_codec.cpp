@@ -648,6 +648,14 @@ UvStatus read_uvmap(std::span<const uint8_t> bytes, const TriMesh& mesh, UvMap& 
     }
     GW_TRY(rc_status(cd));
   }
+  // A stream may set METHODS with every patch unfolding (the spec allows it;
+  // our writer never does). Such a map means what one without methods means,
+  // so it reads as that one: one map per meaning, and write_uvmap of what
+  // read_uvmap returns reads back equal.
+  if (!any_solve(out)) {
+    out.methods.clear();
+    out.solve = SolveParams{};
+  }
   return UvStatus::ok;
 }
 

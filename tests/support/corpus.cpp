@@ -38,6 +38,12 @@ std::vector<CorpusModel> corpus_models() {
   return out;
 }
 
+std::string corpus_path(const std::string& name) {
+  for (const auto& m : corpus_models())
+    if (m.name == name) return m.path;
+  return {};
+}
+
 int run_command(const std::string& cmd, std::string* out) {
   FILE* pipe = popen(cmd.c_str(), "r");
   if (!pipe) return -1;

@@ -18,6 +18,8 @@ struct CorpusModel {
 // Empty when the corpus is absent.
 std::string corpus_dir();
 std::vector<CorpusModel> corpus_models();
+// The .gltf or .glb of the corpus model `name` (as CorpusModel::name); empty when absent.
+std::string corpus_path(const std::string& name);
 
 // Runs a shell command, returns its exit code and stdout.
 int run_command(const std::string& cmd, std::string* out = nullptr);
