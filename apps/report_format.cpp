@@ -114,6 +114,13 @@ std::string fallback_text(const Fallback& f) {
         append_recoded(line, sizeof line, f);
       }
       return line;
+    case FallbackReason::draco_refused:
+      return "Draco cannot carry the geometry";
+    case FallbackReason::texcoord_out_of_range:
+      std::snprintf(line, sizeof line,
+                    "TEXCOORD_0 reaches %.3g, beyond +-%.0f: float UVs that far from 0 cannot place a texel",
+                    f.max_source_uv, kMaxSourceUv);
+      return line;
     case FallbackReason::texture_repeats:
       std::snprintf(line, sizeof line,
                     "the UVs repeat the texture %.3gx (%.3g texels counted per use, %.3g in the images): the "

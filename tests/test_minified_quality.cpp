@@ -18,7 +18,7 @@ using test::corpus_models;
 
 TEST(CorpusMinified, TruckHoldsItsQualityAtEveryMipLevel) {
   GLTFWARP_REQUIRE_CORPUS();
-  const std::string path = corpus_path("CesiumMilkTruck");
+  const std::string path = test::corpus_path("CesiumMilkTruck");
   ASSERT_FALSE(path.empty());
   tinygltf::Model model;
   ASSERT_TRUE(read_gltf(path, model).ok);

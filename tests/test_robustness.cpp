@@ -17,6 +17,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "codec/encode/encode_report.h"
 #include "format/gltf/gltf_io.h"
 #include "format/gltf/gltf_primitive.h"
 #include "support/corpus.h"
@@ -222,6 +223,40 @@ TEST(Robustness, NormalizedIntegerUvsReadAsFloats) {
     ASSERT_EQ(uv->count(), ref.uvs.size() / 2);
     for (size_t e = 0; e < uv->count(); ++e)
       for (int i = 0; i < 2; ++i) EXPECT_NEAR(uv->get(e, i), ref.uvs[2 * e + i], 1.0 / 32767) << e;
+  }
+}
+
+// UVs too far from 0 for a float to place a texel (a fuzzer's bit flip
+// made one 3e32; the warp's lookups there read NaN): the primitive keeps its
+// explicit UVs, untouched, and the report says why, even with
+// --always-implicit; UVs within reach (a texture tiled 8 times) still go.
+TEST(Robustness, UvsBeyondFloatReachKeepExplicitUvs) {
+  const std::string dir = scratch_dir("robust-far-uvs");
+  for (const float scale : {1e6f, 8.0f}) {
+    SCOPED_TRACE(scale);
+    tinygltf::Model m = empty_scene();
+    MeshSpec mesh = grid_mesh(6, 5);
+    for (float& v : mesh.uvs) v *= scale;
+    add_primitive(m, mesh, add_material(m, add_texture(m, add_png_image(m, 32))));
+    const std::string src = dir + "/src.glb", out = dir + "/out.glb";
+    ASSERT_EQ(write_gltf(m, src), "");
+    const CliRun r = run_cli("encode --min-psnr 0 --always-implicit " + quote(src) + " -o " + quote(out));
+    ASSERT_EQ(r.code, 0) << r.err;
+    tinygltf::Model enc;
+    ASSERT_TRUE(read_gltf(out, enc).ok);
+    if (scale > kMaxSourceUv) {
+      EXPECT_FALSE(any_implicit(enc));
+      EXPECT_NE(r.out.find("TEXCOORD_0 reaches 1e+06, beyond +-16384"), std::string::npos) << r.out;
+      PrimitiveGeometry g;
+      ASSERT_EQ(read_primitive(enc, enc.meshes[0].primitives[0], g), "");
+      const VertexAttribute* uv = g.find("TEXCOORD_0");
+      ASSERT_NE(uv, nullptr);
+      float reach = 0;
+      for (size_t e = 0; e < uv->count(); ++e) reach = std::max({reach, uv->get(e, 0), uv->get(e, 1)});
+      EXPECT_NEAR(reach, 1e6f, 1e6f * 1e-3f);  // Draco's 12 bits over the range
+    } else {
+      EXPECT_TRUE(any_implicit(enc));
+    }
   }
 }
 

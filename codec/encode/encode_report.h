@@ -35,7 +35,16 @@ enum class FallbackReason {
   below_quality_floor,       // the warped atlas stayed below --min-psnr at every density tried
   explicit_smaller,          // explicit UVs and the source images cost fewer bytes than the map and atlas
   texture_repeats,           // the UVs tile or repeat the texture: the atlas would store every repeat
+  texcoord_out_of_range,     // a TEXCOORD_0 value lies beyond +-kMaxSourceUv
+  draco_refused,             // Draco cannot carry the geometry (the explicit path then passes it through)
 };
+
+// The largest TEXCOORD_0 magnitude the encoder warps from. A float there
+// still resolves 1/1024 of a unit (a texel of a 1024-texel texture), and
+// times the largest image side (65536) it stays an int; no real tiling
+// comes near it. Beyond it the primitive keeps its explicit UVs, even with
+// --always-implicit: the warp could not place a texel.
+constexpr float kMaxSourceUv = 16384;
 
 struct Fallback {
   FallbackReason reason = FallbackReason::none;
@@ -88,6 +97,8 @@ struct Fallback {
   // texture_repeats: the source texels the faces cover, each use counted
   // (what the atlas would hold), and the texels of the images they sample.
   double texel_uses = 0, image_texels = 0;
+  // texcoord_out_of_range: the largest |TEXCOORD_0| value.
+  double max_source_uv = 0;
 };
 
 struct PrimitiveReport {

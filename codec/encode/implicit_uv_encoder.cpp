@@ -250,6 +250,12 @@ bool all_finite(std::span<const float> values) {
   return std::all_of(values.begin(), values.end(), [](float v) { return std::isfinite(v); });
 }
 
+float largest_magnitude(std::span<const float> values) {
+  float m = 0;
+  for (const float v : values) m = std::max(m, std::abs(v));
+  return m;
+}
+
 // What the geometry becomes when it loses its UVs: TEXCOORD_0 goes, and so
 // does TANGENT (derived from the old UVs; regenerated at decode), and the
 // vertices that differed only there are welded.
@@ -349,7 +355,7 @@ void prefetch_partitions(const tinygltf::Model& model, int mesh, std::vector<int
     const VertexAttribute* uv0 = out.geom.find("TEXCOORD_0");
     if (!uv0 || uv0->components != 2) return;
     out.source_corner_uv = per_corner(out.geom, *uv0);
-    if (!all_finite(out.source_corner_uv)) return;
+    if (!all_finite(out.source_corner_uv) || largest_magnitude(out.source_corner_uv) > kMaxSourceUv) return;
     strip_source_uvs(out.geom);
     if (!position_error(out.geom).empty() || out.geom.triangles.empty()) return;
     out.prepared = prepare_partition(out.geom, out.source_corner_uv, context, options);
@@ -487,6 +493,11 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   const std::vector<float> source_corner_uv = per_corner(geom, *uv0);
   if (!all_finite(source_corner_uv))
     return {ErrorCode::invalid_input, "TEXCOORD_0 holds a NaN or infinite value"};
+  if (const float reach = largest_magnitude(source_corner_uv); reach > kMaxSourceUv) {
+    const Error e = fall_back(model, prim, plan, pr, FallbackReason::texcoord_out_of_range);
+    pr.fallback.max_source_uv = reach;
+    return e;
+  }
   // Draco quantizes float UVs only; integer ones it keeps as they are.
   const bool explicit_uv_quantized =
       !options.raw_geometry && uv0->component_type == TINYGLTF_COMPONENT_TYPE_FLOAT;
@@ -527,7 +538,10 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   PreparedPartition prepared;
   if (!take_prefetched(plan, prim, geom, source_corner_uv, prepared))
     prepared = prepare_partition(geom, source_corner_uv, context, options);
-  if (Error e = error_if(ErrorCode::invalid_input, prepared.error); e.failed()) return e;
+  // Draco cannot carry it (an attribute it has no type for, or integers past
+  // its tables): the primitive keeps its UVs, and the explicit path, which
+  // meets the same refusal, passes it through as it came.
+  if (!prepared.error.empty()) return fall_back(model, prim, plan, pr, FallbackReason::draco_refused);
 
   // The geometry is written to a trial copy of the primitive first: if the
   // embedding fails, the primitive falls back to explicit UVs untouched, and

@@ -28,7 +28,7 @@ struct PartitionContext {
 };
 
 struct PreparedPartition {
-  std::string error;                 // Draco refused the geometry or failed: the input is at fault
+  std::string error;                 // Draco refused the geometry or failed
   DracoEncoded encoded;              // empty with raw geometry
   PrimitiveGeometry decoded;         // what every decoder sees
   size_t geometry_bytes = 0;         // Draco's bytes, or the plain arrays'

@@ -2,6 +2,8 @@
 // only maps glTF's packed attributes onto draco::Mesh and back.
 #include "format/gltf/draco_geometry.h"
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <unordered_map>
 
@@ -41,6 +43,40 @@ draco::GeometryAttribute::Type draco_semantic(const std::string& s) {
   if (s.rfind("COLOR_", 0) == 0) return draco::GeometryAttribute::COLOR;
   if (s.rfind("TEXCOORD_", 0) == 0) return draco::GeometryAttribute::TEX_COORD;
   return draco::GeometryAttribute::GENERIC;
+}
+
+// Draco codes an integer attribute's values (or their prediction residuals)
+// as symbols and tabulates every symbol up to the largest one: values near
+// 2^32 (an integer TEXCOORD_0 a fuzzer made, a 32-bit id) made it allocate
+// 4 GB. Up to 2^24 the tables stay under 128 MB.
+constexpr uint64_t kMaxDracoInteger = uint64_t{1} << 24;
+
+// The largest magnitude among an integer attribute's stored values (0 for floats).
+uint64_t largest_integer(const VertexAttribute& a) {
+  const size_t cs = component_size(a.component_type);
+  uint64_t most = 0;
+  for (size_t i = 0; cs > 0 && i + cs <= a.data.size(); i += cs) {
+    const uint8_t* p = a.data.data() + i;
+    uint64_t v = 0;
+    switch (a.component_type) {
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t u;
+        std::memcpy(&u, p, 4);
+        v = u;
+        break;
+      }
+      case TINYGLTF_COMPONENT_TYPE_INT: {
+        int32_t s;
+        std::memcpy(&s, p, 4);
+        v = uint64_t(std::abs(int64_t{s}));
+        break;
+      }
+      default:
+        return 0;  // floats, and 8- and 16-bit integers (at most 65535)
+    }
+    most = std::max(most, v);
+  }
+  return most;
 }
 
 template <typename T>
@@ -99,6 +135,11 @@ DracoEncoded draco_encode(const std::vector<VertexAttribute>& attributes,
     const draco::DataType dt = draco_type(a.component_type);
     if (dt == draco::DT_INVALID || a.components < 1 || a.components > 4) {
       r.error = "attribute " + a.semantic + " has a type Draco cannot carry";
+      return r;
+    }
+    if (const uint64_t most = largest_integer(a); most > kMaxDracoInteger) {
+      r.error = "attribute " + a.semantic + " holds integers up to " + std::to_string(most) +
+                ", past the 2^24 that Draco's integer coder tabulates";
       return r;
     }
     draco::GeometryAttribute ga;

@@ -12,7 +12,6 @@
 #include "format/bitstream/uvmap_codec.h"
 #include "fuzz_mesh.h"
 
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   static const gltfwarp::TriMesh mesh = gltfwarp::fuzz_mesh();
   std::vector<float> uv;

@@ -25,6 +25,7 @@
 
 #include "format/gltf/gltf_accessors.h"
 #include "format/gltf/gltf_io.h"
+#include "format/gltf/gltf_primitive.h"
 #include "tests/support/testing/sample_model.h"
 
 namespace gltfwarp::test {
@@ -509,6 +510,39 @@ std::vector<VariedModel> varied_models() {
     MeshSpec g = grid_mesh(4, 4);
     g.indices.insert(g.indices.end(), {0, 0, 1, 0, 1, 2, 5, 6, 11, 5, 6, 11});
     add("degenerate", single(g), false);
+  }
+  // A 32-bit integer attribute past what Draco tabulates (ids from 3e9): the
+  // primitive passes through as it came, ids and UVs intact, and the rest of
+  // the file is still written (Draco allocated 12 GB for it before).
+  {
+    tinygltf::Model m = single(grid_mesh(4, 3));
+    VertexAttribute ids;
+    ids.semantic = "_ID";
+    ids.component_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+    ids.components = 1;
+    for (uint32_t k = 0; k < 20; ++k) {
+      const uint32_t id = 3000000000u + k;
+      const auto* b = reinterpret_cast<const uint8_t*>(&id);
+      ids.data.insert(ids.data.end(), b, b + 4);
+    }
+    m.meshes[0].primitives[0].attributes["_ID"] = add_accessor(m, ids, TINYGLTF_TARGET_ARRAY_BUFFER);
+    auto* v = add("large-integer-attribute", std::move(m), false);
+    v->check_encoded = [](const tinygltf::Model& e, const std::string& report) {
+      const tinygltf::Primitive& p = prim_of(e, 0, 0);
+      EXPECT_FALSE(has_ours(p)) << report;
+      EXPECT_TRUE(p.attributes.count("TEXCOORD_0"));
+      EXPECT_NE(report.find("_ID holds integers up to 3000000019"), std::string::npos) << report;
+      PrimitiveGeometry g;
+      ASSERT_EQ(read_primitive(e, p, g), "");
+      const VertexAttribute* got = g.find("_ID");
+      ASSERT_NE(got, nullptr);
+      ASSERT_EQ(got->count(), 20u);
+      for (size_t k = 0; k < 20; ++k) {
+        uint32_t id;
+        std::memcpy(&id, got->data.data() + 4 * k, 4);
+        EXPECT_EQ(id, 3000000000u + k);
+      }
+    };
   }
   // Many components.
   {

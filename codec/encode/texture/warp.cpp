@@ -774,7 +774,8 @@ WarpStatus warp_texture(const ImageBuf& source, std::span<const WarpPrimitive> p
         // Writes the texel's values (in [0, 1], as the atlas stores them).
         const auto store = [&](const float* v) {
           for (int c = 0; c < nch; ++c) {
-            const double q = std::round(std::clamp(double(v[c]), 0.0, 1.0) * qmax);
+            // A NaN (a lookup far outside any sane UV) stores 0, not an undefined cast.
+            const double q = v[c] == v[c] ? std::round(std::clamp(double(v[c]), 0.0, 1.0) * qmax) : 0.0;
             if (deep)
               reinterpret_cast<uint16_t*>(dst8)[c] = uint16_t(q);
             else
