@@ -218,9 +218,7 @@ TEST(Bitstream, RandomCorruptionNeverCrashes) {
   Fixture fx;
   int rejected = 0;
   for (int trial = 0; trial < 5000; ++trial) {
-    auto b = fx.bytes;
-    const int flips = 1 + static_cast<int>(rng() % 4);
-    for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    const std::vector<uint8_t> b = with_flipped_bits(fx.bytes, rng, 4);
     std::vector<float> uv;
     UvMap out;
     const UvStatus s = read_uvmap(b, fx.mesh, out);
@@ -249,9 +247,7 @@ TEST(Bitstream, DecodedMapsWriteBackToThemselves) {
   const std::vector<uint8_t> bytes = write_uvmap(map, mesh);
   int decoded = 0, without_methods = 0;
   for (int trial = 0; trial < 20000; ++trial) {
-    auto b = bytes;
-    const int flips = 1 + static_cast<int>(rng() % 3);
-    for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    const std::vector<uint8_t> b = with_flipped_bits(bytes, rng, 3);
     UvMap out;
     if (read_uvmap(b, mesh, out) != UvStatus::ok) continue;
     ++decoded;

@@ -332,9 +332,7 @@ TEST(BitstreamFine, RandomCorruptionDecodesOnlyValidMaps) {
   const auto bytes = write_uvmap(map, mesh);
   int decoded = 0;
   for (int trial = 0; trial < 5000; ++trial) {
-    auto b = bytes;
-    const int flips = 1 + static_cast<int>(rng() % 3);
-    for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+    const std::vector<uint8_t> b = with_flipped_bits(bytes, rng, 3);
     UvMap out;
     if (read_uvmap(b, mesh, out) != UvStatus::ok) continue;
     ++decoded;

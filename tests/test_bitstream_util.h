@@ -138,6 +138,13 @@ inline UvMap random_uvmap(const TriMesh& m, uint32_t target_patches, std::mt1993
   return map;
 }
 
+// `bytes` with 1..max_flips random bits flipped (a corrupt stream).
+inline std::vector<uint8_t> with_flipped_bits(std::vector<uint8_t> b, std::mt19937& rng, uint32_t max_flips) {
+  const int flips = 1 + static_cast<int>(rng() % max_flips);
+  for (int i = 0; i < flips; ++i) b[rng() % b.size()] ^= static_cast<uint8_t>(1u << (rng() % 8));
+  return b;
+}
+
 // Format 1.1: a random face of each patch as its seed.
 inline void add_random_seeds(UvMap& map, std::mt19937& rng) {
   std::vector<std::vector<uint32_t>> faces(map.patch_count);
