@@ -92,6 +92,15 @@ TEST(DracoQuantized, LeavesValuesWhereDracoWouldNotQuantize) {
   // Values outside the attribute's range still go through its quantizer.
   const std::vector<float> outside = {0.05f, 0.95f};
   EXPECT_EQ(draco_quantized(v, outside, 2, 12).size(), 2u);
+  // A range of a few denormals makes the quantizer's scale infinite, and a
+  // value far outside a range quantizes past int (undefined in Draco's
+  // cast; a fuzzer's input): such values come back as they are.
+  const std::vector<float> tiny = {0.0f, 0.0f, 1e-44f, 1e-44f};
+  EXPECT_EQ(draco_quantized(tiny, tiny, 2, 12), tiny);
+  const std::vector<float> far = {1e30f, 0.37f}, near = {0.35f, 0.37f};
+  const std::vector<float> got = draco_quantized(v, far, 2, 12);
+  EXPECT_EQ(got[0], 1e30f);
+  EXPECT_EQ(got[1], draco_quantized(v, near, 2, 12)[1]);  // its neighbour quantized as ever
 }
 
 }  // namespace

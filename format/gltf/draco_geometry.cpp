@@ -3,6 +3,7 @@
 #include "format/gltf/draco_geometry.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <unordered_map>
@@ -190,8 +191,15 @@ std::vector<float> draco_quantized(std::span<const float> attribute, std::span<c
   quantizer.Init(transform.range(), max_quantized);
   draco::Dequantizer dequantizer;
   if (!dequantizer.Init(transform.range(), max_quantized)) return out;
+  // The quantizer's scale, in its own float arithmetic: a range of a few
+  // denormals makes it infinite, and a value far outside the range a
+  // quantized value past int; Draco's cast is undefined there, so such
+  // values stay as they are (its own encoder meets the same input).
+  const float inverse_delta = float(max_quantized) / transform.range();
+  if (!std::isfinite(inverse_delta)) return out;
   for (size_t i = 0; i < out.size(); ++i) {
     const float min = transform.min_value(int(i % size_t(components)));
+    if (!(std::abs((values[i] - min) * inverse_delta) < 2e9f)) continue;
     out[i] = dequantizer.DequantizeFloat(quantizer.QuantizeFloat(values[i] - min)) + min;
   }
   return out;
