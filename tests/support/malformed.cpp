@@ -736,6 +736,13 @@ std::vector<BadFile> malformed_files(const std::string& dir, const std::string& 
     write_file(dir + "/fifo-buffer.gltf", g.json.dump());
     out.push_back({"fifo-buffer.gltf", dir + "/fifo-buffer.gltf", true});
   }
+  // A PNG whose compressed data is damaged: libpng's own messages must not
+  // reach stderr beside ours (OpenImageIO's PNG reader let them through).
+  edit("png-bad-idat.glb", base, [](Glb& g) {
+    const auto& view = g.json["bufferViews"][g.json["images"][0]["bufferView"].get<int>()];
+    const size_t at = view.value("byteOffset", size_t{0}) + view["byteLength"].get<size_t>() / 2;
+    g.bin[at] = char(g.bin[at] ^ 0x5a);
+  });
   edit("missing-image.glb", base, [](Glb& g) {
     g.json["images"][0].erase("bufferView");
     g.json["images"][0]["uri"] = "missing.png";

@@ -6,10 +6,12 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <png.h>
 
 #include <algorithm>
 #include <cstring>
 #include <thread>
+#include <vector>
 
 namespace gltfwarp {
 
@@ -129,11 +131,40 @@ int estimate_jpeg_quality(std::span<const uint8_t> b) {
   return 0;
 }
 
+namespace {
+
+// The first error libpng meets reading a whole PNG, or "". OpenImageIO's PNG
+// reader keeps libpng's default handlers, which print each error to stderr
+// ahead of the one line we report; libpng's simplified API keeps its message
+// instead. So a PNG is read once here before OpenImageIO decodes it: one
+// more decode of each PNG source, for an error that stays one line.
+std::string png_read_error(std::span<const uint8_t> bytes) {
+  png_image image{};
+  image.version = PNG_IMAGE_VERSION;
+  if (!png_image_begin_read_from_memory(&image, bytes.data(), bytes.size())) return image.message;
+  // One byte a texel (the values are thrown away); past the size decode_image
+  // refuses anyway, OpenImageIO's refusal stands.
+  if (uint64_t(image.width) * image.height > (uint64_t(1) << 28)) {
+    png_image_free(&image);
+    return "";
+  }
+  image.format = PNG_FORMAT_GRAY;
+  std::vector<uint8_t> pixels(PNG_IMAGE_SIZE(image));
+  const bool ok = png_image_finish_read(&image, nullptr, pixels.data(), 0, nullptr) != 0;
+  const std::string message = ok ? std::string() : std::string(image.message);
+  png_image_free(&image);
+  return message;
+}
+
+}  // namespace
+
 std::string decode_image(std::span<const uint8_t> bytes, DecodedImage& out) {
   out = DecodedImage{};
   out.codec = sniff_image_codec(bytes);
   if (bytes.empty()) return "empty image data";
   if (out.codec == ImageCodec::ktx2) return "KTX2 images cannot be decoded here (pass through)";
+  if (out.codec == ImageCodec::png)
+    if (const std::string e = png_read_error(bytes); !e.empty()) return "cannot decode png image: " + e;
   const char* name = out.codec == ImageCodec::png    ? "image.png"
                      : out.codec == ImageCodec::jpeg ? "image.jpg"
                      : out.codec == ImageCodec::webp ? "image.webp"
