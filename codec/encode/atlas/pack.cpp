@@ -792,9 +792,8 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
     }
     if (least_side > double(max_size)) {
       // A patch wider than a page in every turn: packing must fail at this
-      // scale, so shrink as a failed pack would, without building its masks
-      // (a texture tiled 1000 times, --always-implicit: masks of 200 M texels
-      // built again on each of the retries took minutes).
+      // scale, so shrink as a failed pack would (the same atlas in the end),
+      // without building every patch's masks for it first.
       scale = double(float(scale * options.shrink_factor));
       ++result.report.shrink_retries;
       continue;
