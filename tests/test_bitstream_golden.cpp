@@ -24,23 +24,8 @@ using namespace gltfwarp;
 namespace {
 
 // The golden mesh: a 12 x 8 grid on the saddle z = 0.75 x y (not developable,
-// so the relaxation matters), row-major, two triangles per quad. Built with
-// float arithmetic only (no libm), so every platform gets the same positions.
-TriMesh golden_mesh() {
-  const uint32_t nx = 12, ny = 8;
-  TriMesh m;
-  for (uint32_t j = 0; j <= ny; ++j)
-    for (uint32_t i = 0; i <= nx; ++i) {
-      const float x = static_cast<float>(i) / 12.0f, y = static_cast<float>(j) / 8.0f;
-      m.positions.insert(m.positions.end(), {x, y, 0.75f * x * y});
-    }
-  for (uint32_t j = 0; j < ny; ++j)
-    for (uint32_t i = 0; i < nx; ++i) {
-      const uint32_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-      m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-    }
-  return m;
-}
+// so the relaxation matters); spec/reference_decoder.py builds the same.
+TriMesh golden_mesh() { return testutil::make_grid(12, 8, 0.75f); }
 
 // The golden map: 4 x 4-quad blocks (and odd one-face and one-quad patches), three pages,
 // rotations and per-patch scales, so every field of 1.0 is exercised.

@@ -18,13 +18,16 @@
 namespace gltfwarp::testutil {
 
 // nx * ny quads, two triangles each, row-major faces; z is a gentle bump.
-inline TriMesh make_grid(uint32_t nx, uint32_t ny) {
+// An nx x ny-quad grid over the unit square on the saddle z = bend * x * y,
+// row-major, two triangles per quad; float arithmetic only (no libm), so
+// every platform gets the same positions.
+inline TriMesh make_grid(uint32_t nx, uint32_t ny, float bend = 0.125f) {
   TriMesh m;
   for (uint32_t j = 0; j <= ny; ++j)
     for (uint32_t i = 0; i <= nx; ++i) {
       const float x = static_cast<float>(i) / static_cast<float>(nx);
       const float y = static_cast<float>(j) / static_cast<float>(ny);
-      m.positions.insert(m.positions.end(), {x, y, 0.125f * x * y});
+      m.positions.insert(m.positions.end(), {x, y, bend * x * y});
     }
   for (uint32_t j = 0; j < ny; ++j)
     for (uint32_t i = 0; i < nx; ++i) {

@@ -7,22 +7,12 @@
 #include <cstdint>
 
 #include "codec/core/mesh.h"
+#include "tests/test_bitstream_util.h"
 
 namespace gltfwarp {
 
 inline TriMesh fuzz_mesh() {
-  TriMesh m;
-  const uint32_t nx = 6, ny = 5;
-  for (uint32_t j = 0; j <= ny; ++j)
-    for (uint32_t i = 0; i <= nx; ++i) {
-      const float x = static_cast<float>(i) / 6.0f, y = static_cast<float>(j) / 5.0f;
-      m.positions.insert(m.positions.end(), {x, y, 0.5f * x * y});
-    }
-  for (uint32_t j = 0; j < ny; ++j)
-    for (uint32_t i = 0; i < nx; ++i) {
-      const uint32_t a = j * (nx + 1) + i, b = a + 1, c = a + nx + 1, d = c + 1;
-      m.indices.insert(m.indices.end(), {a, b, d, a, d, c});
-    }
+  TriMesh m = testutil::make_grid(6, 5, 0.5f);
   const uint32_t t = m.vertex_count();
   m.positions.insert(m.positions.end(), {2, 0, 0, 3, 0, 0, 2, 1, 0, 2, 0, 1});
   m.indices.insert(m.indices.end(), {t, t + 2, t + 1, t, t + 1, t + 3, t + 1, t + 2, t + 3, t, t + 3, t + 2});

@@ -760,10 +760,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
         p.aligned = aligned_transform(p.source_fit, k, scale, p.extent, p.aligned_at[k]);
     }
     double texel_area = 0;
-    // A bound below the side of each turn's mask (every unaligned patch's
-    // diameter is at least its box's longer side, and spans 1/sqrt(2) of it
-    // along one axis at any angle).
-    double least_side = 0;
     for (const PatchInfo& p : patches) {
       if (p.copy_of >= 0) continue;
       const PackPrimitive& pr = prims[p.prim];
@@ -778,7 +774,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       }
       const double ps = p.aligned ? std::hypot(p.source_fit.a, p.source_fit.b) : scale * pscale(p.scale_step);
       texel_area += area * ps * ps + (x1 - x0 + y1 - y0) * ps * (2 * r + 1) + 4.0 * r * r;
-      if (!p.aligned) least_side = std::max(least_side, std::max(x1 - x0, y1 - y0) * ps * M_SQRT1_2 + 2 * r);
     }
     const double cap = double(max_size) * max_size * options.max_pages;
     if (texel_area > 0.9 * cap) {
@@ -787,14 +782,6 @@ PackStatus pack_atlas(std::span<const PackPrimitive> prims, const PackOptions& o
       // which 60 retries cannot carry past a factor of 2^-60.
       scale = double(
           float(scale * std::max(1e-12, std::min(options.shrink_factor, std::sqrt(0.8 * cap / texel_area)))));
-      ++result.report.shrink_retries;
-      continue;
-    }
-    if (least_side > double(max_size)) {
-      // A patch wider than a page in every turn: packing must fail at this
-      // scale, so shrink as a failed pack would (the same atlas in the end),
-      // without building every patch's masks for it first.
-      scale = double(float(scale * options.shrink_factor));
       ++result.report.shrink_retries;
       continue;
     }
