@@ -195,6 +195,13 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
     std::printf("%-10s %-28s %8zu %8zu %9zu %9zu %7u %6.3f %6zu %6.2f %5u\n", id, handling_text(p).c_str(),
                 p.triangles, p.vertices, p.geometry_bytes, p.bitstream_bytes, p.patches, p.max_distortion,
                 p.seam_edges, p.rect_fill, p.holes);
+    // The source's own UV charts beside our patches (implicit UVs only).
+    if (p.handling == Handling::implicit_uv && p.source.charts > 0)
+      std::printf(
+          "%-10s %-28s %8s %8s %9s %9s %7u %6s %6u %6s %5s   (%u of them bound our patches; "
+          "%.1f%% of the surface past tau at each chart's own scale)\n",
+          "", "  source UV charts", "", "", "", "", p.source.charts, "", p.source.seam_edges, "", "",
+          p.source.bound_seam_edges, 100.0 * p.source.area_beyond_tau);
     if (p.greedy.patches > 0)
       std::printf("%-10s %-28s %8s %8s %9s %9s %7u %6s %6u %6.2f %5u   (ours: %.0f%% of greedy's seams)\n",
                   "", "  greedy baseline", "", "", "", "", p.greedy.patches, "", p.greedy.seam_edges,

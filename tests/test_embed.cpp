@@ -207,6 +207,43 @@ TEST(Embed, MeasureSeesSeamsOfAGivenPartition) {
   EXPECT_EQ(r.holes, 0u);
 }
 
+// seam_edges_between counts any labelling's seams as measure_embedding counts
+// a partition's, on open and closed generated meshes.
+TEST(Embed, SeamsBetweenLabelsAreThoseOfTheMeasure) {
+  for (const TriMesh& m : {make_sphere(24, 12).mesh, make_torus(32, 10).mesh, make_cylinder_open(20, 6).mesh,
+                           make_twisted_cone(16, 16).mesh}) {
+    const Embedding e = embed(m);
+    ASSERT_EQ(e.status, LayoutStatus::ok);
+    ASSERT_GT(e.report.seam_edges, 0u);
+    EXPECT_EQ(seam_edges_between(m, e.patch_of_face), e.report.seam_edges);
+    EXPECT_EQ(seam_edges_between(m, std::vector<uint32_t>(m.face_count(), 7)), 0u);
+  }
+}
+
+// The stretch of a labelled layout is judged at each label's own scale: a
+// label laid out at 5x or 0.2x its 3D size is within tau, one stretched
+// 2x along one axis is not, and the share is by 3D area.
+TEST(Embed, StretchBeyondTauIsJudgedAtEachLabelsOwnScale) {
+  const TriMesh m = make_plane(4, 4).mesh;  // 32 faces, the halves f < 16 and f >= 16 of equal area
+  std::vector<uint32_t> half(m.face_count());
+  for (uint32_t f = 0; f < m.face_count(); ++f) half[f] = f / 16;
+  auto layout = [&](double sx0, double sy0, double sx1, double sy1) {
+    std::vector<double> xy(6 * size_t{m.face_count()});
+    for (uint32_t f = 0; f < m.face_count(); ++f)
+      for (int k = 0; k < 3; ++k) {
+        const float* p = &m.positions[3 * size_t{m.indices[3 * f + k]}];
+        xy[6 * f + 2 * k] = p[0] * (half[f] ? sx1 : sx0);
+        xy[6 * f + 2 * k + 1] = p[1] * (half[f] ? sy1 : sy0);
+      }
+    return xy;
+  };
+  ASSERT_EQ(m.positions[2], 0.0f);  // a plane in z = 0: x, y are an isometric layout
+  EXPECT_EQ(area_beyond_tau_at_own_scale(m, half, layout(5, 5, 0.2, 0.2), 1.3), 0.0);
+  EXPECT_NEAR(area_beyond_tau_at_own_scale(m, half, layout(5, 5, 2, 1), 1.3), 0.5, 1e-12);
+  EXPECT_NEAR(area_beyond_tau_at_own_scale(m, std::vector<uint32_t>(32, 0), layout(5, 5, 0.2, 0.2), 1.3), 1.0,
+              1e-12);
+}
+
 // A hole is a patch of 1-3 faces inside one other patch's outline: on a
 // plane, a lone middle face; on a closed sphere, one lone face is not (the
 // rest is a disc round it, its outline enclosing nothing), two are (the

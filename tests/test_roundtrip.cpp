@@ -715,6 +715,38 @@ TEST(CorpusRoundTrip, HiddenSourceSeamsAreCrossed) {
   EXPECT_LT(seams[1], seams[0]);
 }
 
+// The report's yardstick of our seams, the source's own UV charts (issue
+// 19): the Fox's charts have seams, and every edge between the charts the
+// partition keeps to is a seam of ours, so there are no more of them than
+// our seams. Crossing the source's seams, nothing binds and the source's
+// charts are the same.
+TEST(CorpusRoundTrip, SourceChartsMeasureOurSeams) {
+  GLTFWARP_REQUIRE_CORPUS();
+  PrimitiveReport keep, cross;
+  for (const bool crossing : {false, true}) {
+    EncodeOptions o;
+    o.keep_source_charts = !crossing;
+    o.quality_fallback = false;
+    EncodeReport report;
+    ASSERT_TRUE(encode_corpus("Fox", o, report));
+    ASSERT_EQ(report.primitives.size(), 1u);
+    ASSERT_EQ(report.primitives[0].handling, Handling::implicit_uv);
+    (crossing ? cross : keep) = report.primitives[0];
+  }
+  std::printf("Fox: source %u charts, %u seams, %.3f past tau; ours %zu seams (%u bound), crossing %zu\n",
+              keep.source.charts, keep.source.seam_edges, keep.source.area_beyond_tau, keep.seam_edges,
+              keep.source.bound_seam_edges, cross.seam_edges);
+  EXPECT_GT(keep.source.charts, 1u);
+  EXPECT_GT(keep.source.seam_edges, 0u);
+  EXPECT_GT(keep.source.bound_seam_edges, 0u);
+  EXPECT_LE(keep.source.bound_seam_edges, keep.seam_edges);
+  EXPECT_GE(keep.source.area_beyond_tau, 0.0);
+  EXPECT_LT(keep.source.area_beyond_tau, 1.0);
+  EXPECT_EQ(cross.source.bound_seam_edges, 0u);
+  EXPECT_EQ(cross.source.charts, keep.source.charts);
+  EXPECT_EQ(cross.source.seam_edges, keep.source.seam_edges);
+}
+
 // Issue 16, honest reports: with a lossy image coder the encoder prices the
 // explicit-UV file at the atlas's own quality (the source re-encoded with the
 // same coder, its JPEG quality searched), and keeps whichever is smaller.

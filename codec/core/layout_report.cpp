@@ -57,6 +57,52 @@ double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy
   return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
 }
 
+uint32_t seam_edges_between(const TriMesh& mesh, std::span<const uint32_t> label_of_face) {
+  if (label_of_face.size() != mesh.face_count()) return 0;
+  const std::vector<uint32_t> opp = build_opposite_corners(mesh, build_vertex_faces(mesh));
+  uint32_t seams = 0;
+  for (size_t c = 0; c < opp.size(); ++c)
+    seams += opp[c] != kNone && opp[c] > c && label_of_face[c / 3] != label_of_face[opp[c] / 3];
+  return seams;
+}
+
+double area_beyond_tau_at_own_scale(const TriMesh& mesh, std::span<const uint32_t> label_of_face,
+                                    std::span<const double> corner_xy, double tau) {
+  const uint32_t nf = mesh.face_count();
+  if (label_of_face.size() != nf || corner_xy.size() != 6 * size_t{nf} || nf == 0) return 0;
+  const uint32_t labels = *std::max_element(label_of_face.begin(), label_of_face.end()) + 1;
+  auto corners = [&](uint32_t f, double s, Vec2 P[3]) {
+    for (int k = 0; k < 3; ++k)
+      P[k] = {s * corner_xy[6 * size_t{f} + 2 * k], s * corner_xy[6 * size_t{f} + 2 * k + 1]};
+  };
+  std::vector<double> log_sum(labels, 0.0), weight(labels, 0.0);
+  for (uint32_t f = 0; f < nf; ++f) {
+    Vec2 P[3];
+    corners(f, 1.0, P);
+    const uint32_t* t = &mesh.indices[3 * size_t{f}];
+    double log_ratio = 0;
+    bool finite = true;
+    for (int k = 0; k < 3 && finite; ++k) {
+      const int a = (k + 1) % 3, b = (k + 2) % 3;
+      const double l3 = length3(mesh, t[a], t[b]), l2 = std::hypot(P[a].x - P[b].x, P[a].y - P[b].y);
+      finite = l3 > 0 && l2 > 0 && std::isfinite(l3) && std::isfinite(l2);
+      if (finite) log_ratio += std::log(l2 / l3) / 3;
+    }
+    const double area = face_area3(mesh, f);
+    if (finite && area > 0) log_sum[label_of_face[f]] += area * log_ratio, weight[label_of_face[f]] += area;
+  }
+  double beyond = 0, total = 0;
+  for (uint32_t f = 0; f < nf; ++f) {
+    const uint32_t l = label_of_face[f];
+    const double area = face_area3(mesh, f);
+    Vec2 P[3];
+    corners(f, weight[l] > 0 ? std::exp(-log_sum[l] / weight[l]) : 1.0, P);
+    total += area;
+    if (!face_within_tau(mesh, f, P, tau)) beyond += area;
+  }
+  return total > 0 ? beyond / total : 0.0;
+}
+
 uint32_t hole_host(std::span<const uint32_t> opposite_corner, std::span<const uint32_t> patch_of_face,
                    std::span<const uint32_t> faces, uint32_t p) {
   if (faces.empty() || faces.size() > 3) return kNone;

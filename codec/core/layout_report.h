@@ -35,6 +35,19 @@ struct EmbedReport {
 EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> patch_of_face,
                               uint32_t patch_count, std::span<const double> corner_xy, double tau = 1.3);
 
+// Manifold interior edges whose two faces carry different labels: the seams
+// of any face labelling (patches, source UV charts), counted as
+// measure_embedding counts a partition's.
+uint32_t seam_edges_between(const TriMesh& mesh, std::span<const uint32_t> label_of_face);
+
+// The share of the surface's 3D area on faces that a layout takes past the
+// encoder's rule (face_within_tau) once each label's faces are scaled by
+// one factor of their own (the exp of the area-weighted mean log of 2D over
+// 3D edge length): how far a source's UV charts (2D: texels) are from
+// layouts the partition may make, whatever density the charts have.
+double area_beyond_tau_at_own_scale(const TriMesh& mesh, std::span<const uint32_t> label_of_face,
+                                    std::span<const double> corner_xy, double tau);
+
 // The patch enclosing patch p (its faces `faces`) when they are a hole: 1 to
 // 3 faces whose every edge borders one other patch, none the mesh border;
 // else kNone. patch_of_face may hold kNone for faces not yet in a patch (the

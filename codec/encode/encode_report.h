@@ -120,6 +120,19 @@ struct PrimitiveReport {
     uint32_t patches = 0, seam_edges = 0, holes = 0;
     double rect_fill = 0;
   } greedy;
+  // The source's own UV layout on the same mesh, the yardstick of our seams:
+  // its charts (faces joined across edges whose two faces carry the same
+  // UVs at both ends) and their interior seam edges; and of the edges
+  // between the charts the partition ran with (EncodeOptions::
+  // keep_source_charts: seams the textures show, slits, page regions), the
+  // count, which no patch crosses: every one is a seam of ours too. And
+  // the share of the surface the source's charts stretch past the rule our
+  // patches keep (area_beyond_tau_at_own_scale): where it is large, the
+  // source holds fewer seams than any layout within tau can.
+  struct {
+    uint32_t charts = 0, seam_edges = 0, bound_seam_edges = 0;
+    double area_beyond_tau = 0;
+  } source;
   size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
   int atlas = -1;              // index into EncodeReport::atlases
   uint32_t cut_parts = 0;      // > 1: the source primitive was cut into this many, one atlas page each

@@ -7,6 +7,7 @@
 #include <set>
 
 #include "codec/core/corner_match.h"
+#include "codec/core/layout_report.h"
 #include "codec/core/parallel.h"
 #include "codec/decode/embedding_mesh.h"
 #include "codec/encode/atlas/pack.h"
@@ -626,6 +627,16 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   pr.seam_edges = er.report.seam_edges;
   pr.rect_fill = er.report.fill;
   pr.holes = er.report.holes;
+  const std::vector<uint32_t> own_charts = source_charts(ip.tri, ip.source_uv);
+  pr.source.charts = own_charts.empty() ? 0 : *std::max_element(own_charts.begin(), own_charts.end()) + 1;
+  pr.source.seam_edges = seam_edges_between(ip.tri, own_charts);
+  pr.source.bound_seam_edges = seam_edges_between(ip.tri, prepared.face_chart);
+  if (context.image_w > 0) {
+    std::vector<double> source_texels(ip.source_uv.size());
+    for (size_t i = 0; i < source_texels.size(); ++i)
+      source_texels[i] = double(ip.source_uv[i]) * (i % 2 ? context.image_h : context.image_w);
+    pr.source.area_beyond_tau = area_beyond_tau_at_own_scale(ip.tri, own_charts, source_texels, options.tau);
+  }
   if (options.report_greedy && !options.greedy_partition) {
     // The paper's plain growth on the same mesh, for comparison only.
     EmbedOptions go = partition_options(options, prepared.face_density, prepared.face_chart);
