@@ -147,8 +147,8 @@ std::string handling_text(const PrimitiveReport& p) {
       return "pass: not triangles (mode " + std::to_string(p.mode) + ")";
     case Handling::pass_no_triangles:
       return "pass: no triangles";
-    case Handling::pass_unsupported:
-      return "pass: " + p.detail;
+    case Handling::pass_unsupported:  // Draco's message is long: its note line below the table says it
+      return "pass: Draco cannot carry it";
   }
   return "?";
 }
@@ -199,9 +199,11 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
     if (p.handling == Handling::implicit_uv && p.source.charts > 0)
       std::printf(
           "%-10s %-28s %8s %8s %9s %9s %7u %6s %6u %6s %5s   (%u of them bound our patches; "
-          "%.1f%% of the surface past tau at each chart's own scale)\n",
+          "%.1f%% of the surface past tau at each chart's own scale; not discs: %u charts, %.1f%% of the "
+          "surface)\n",
           "", "  source UV charts", "", "", "", "", p.source.charts, "", p.source.seam_edges, "", "",
-          p.source.bound_seam_edges, 100.0 * p.source.area_beyond_tau);
+          p.source.bound_seam_edges, 100.0 * p.source.area_beyond_tau, p.source.non_disc_charts,
+          100.0 * p.source.non_disc_area);
     if (p.greedy.patches > 0)
       std::printf("%-10s %-28s %8s %8s %9s %9s %7u %6s %6u %6.2f %5u   (ours: %.0f%% of greedy's seams)\n",
                   "", "  greedy baseline", "", "", "", "", p.greedy.patches, "", p.greedy.seam_edges,

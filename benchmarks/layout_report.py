@@ -26,7 +26,15 @@ VARIANTS = ("greedy", "unfold", "mixed", "crossing")
 # "atlas 0: 400x500, fill 71.3%, ..." or, over pages, "atlas 0: 4096x3428 + 3372x2500, fill 45.5%, ..."
 ATLAS_LINE = re.compile(r"^atlas \d+: (\d+x\d+(?: \+ \d+x\d+)*), fill ([0-9.]+)%", re.M)
 # "  source UV charts   14   122   (126 of them bound our patches; 0.9% of the surface past tau ...)"
-SOURCE_LINE = re.compile(r"^\s+source UV charts\s+(\d+)\s+(\d+)\s+\((\d+) of them bound our patches; ([0-9.]+)%", re.M)
+SOURCE_LINE = re.compile(r"^\s+source UV charts\s+(\d+)\s+(\d+)\s+\((\d+) of them bound our patches; ([0-9.]+)%"
+                         r".*?not discs: (\d+) charts, ([0-9.]+)%", re.M)
+
+
+def by_triangles(sources, field, prims, tris):
+    """A percentage of the source lines, as a share, the primitives weighed by triangles."""
+    if not sources or len(sources) != len(prims) or not tris:
+        return None
+    return sum(float(s[field]) / 100 * p["triangles"] for s, p in zip(sources, prims)) / tris
 
 
 def row(model, variant, info_path, log_path, t0, t1):
@@ -64,11 +72,12 @@ def row(model, variant, info_path, log_path, t0, t1):
         "bitstream_bytes": sum(p["bitstream_bytes"] for p in prims),
         "image_bytes": info.get("image_bytes", 0),
         "encode_s": float(t1) - float(t0),
-        "source_charts": sum(int(c) for c, _, _, _ in sources) if sources else None,
-        "source_seam_edges": sum(int(e) for _, e, _, _ in sources) if sources else None,
-        "bound_seam_edges": sum(int(b) for _, _, b, _ in sources) if sources else None,
-        "source_beyond_tau": (sum(float(x) / 100 * p["triangles"] for (_, _, _, x), p in zip(sources, prims)) / tris
-                              if sources and len(sources) == len(prims) and tris else None),
+        "source_charts": sum(int(s[0]) for s in sources) if sources else None,
+        "source_seam_edges": sum(int(s[1]) for s in sources) if sources else None,
+        "bound_seam_edges": sum(int(s[2]) for s in sources) if sources else None,
+        "source_beyond_tau": by_triangles(sources, 3, prims, tris),
+        "source_non_disc_charts": sum(int(s[4]) for s in sources) if sources else None,
+        "source_non_disc_area": by_triangles(sources, 5, prims, tris),
     }
 
 
@@ -118,21 +127,23 @@ def table(jsonl, outdir):
         "The author's charts on the same welded mesh (faces joined across edges whose two faces carry the same",
         "UVs at both ends), from the mixed encode's report: their interior seam edges, the share of the",
         "surface's 3D area they stretch past the rule our patches keep (tau, and 1/tau^2 of the area) with",
-        "each chart scaled by one factor of its own, and the edges between the charts the default partition",
-        "keeps to (seams the texture shows, slits, page regions): no patch crosses one, so each is a seam",
-        "of ours too. A chart with a slit (a tube's cut) is no disc on the welded mesh and must be split.",
+        "each chart scaled by one factor of its own, the charts that are no disc on the welded mesh (a",
+        "slit, such as a tube's cut, or a hole: a patch is a disc, so ours cut each such chart) and the",
+        "share of the surface they hold, and the edges between the charts the default partition keeps to",
+        "(seams the texture shows, slits, page regions): no patch crosses one, so each is a seam of ours too.",
         "",
-        "| model | source charts | source seam edges | source surface past tau | seams bound by the charts"
-        " | 0.5x greedy | mixed | crossing |",
-        "|---|---|---|---|---|---|---|---|",
+        "| model | source charts (not discs) | source seam edges | source surface past tau"
+        " | surface in charts not discs | seams bound by the charts | 0.5x greedy | mixed | crossing |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for m in models:
         mixed, greedy_row, crossing = by.get((m, "mixed")), by.get((m, "greedy")), by.get((m, "crossing"))
         if not mixed or mixed.get("source_charts") is None:
             continue
         half = greedy_row["seam_edges"] / 2 if greedy_row else None
-        md.append(f"| {m} | {mixed['source_charts']} | {mixed['source_seam_edges']} "
-                  f"| {fmt(mixed['source_beyond_tau'], '.1%')} | {mixed['bound_seam_edges']} "
+        md.append(f"| {m} | {mixed['source_charts']} ({mixed['source_non_disc_charts']}) | {mixed['source_seam_edges']} "
+                  f"| {fmt(mixed['source_beyond_tau'], '.1%')} | {fmt(mixed['source_non_disc_area'], '.1%')} "
+                  f"| {mixed['bound_seam_edges']} "
                   f"| {fmt(half, '.0f')} | {mixed['seam_edges']} | {crossing['seam_edges'] if crossing else '-'} |")
     below = [m for m in models if by.get((m, "mixed")) and by.get((m, "greedy")) and by[(m, "greedy")]["seam_edges"]
              and by[(m, "mixed")].get("bound_seam_edges") is not None
@@ -168,7 +179,7 @@ def table(jsonl, outdir):
     keys = ["model", "variant", "version", "triangles", "patches", "solve_patches", "seam_edges",
             "seams_vs_greedy", "atlas_fill", "rect_fill", "holes", "max_distortion", "flipped",
             "zero_area", "bitstream_bytes", "image_bytes", "encode_s", "source_charts", "source_seam_edges",
-            "bound_seam_edges", "source_beyond_tau"]
+            "bound_seam_edges", "source_beyond_tau", "source_non_disc_charts", "source_non_disc_area"]
     with open(os.path.join(outdir, "solve_layout.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=keys, extrasaction="ignore")
         w.writeheader()

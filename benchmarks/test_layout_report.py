@@ -47,7 +47,8 @@ class LayoutReport(unittest.TestCase):
     def test_table_divides_seams_by_greedy_and_judges_the_goals(self):
         rows = []
         source = ("             source UV charts          7       40                "
-                  "(52 of them bound our patches; 12.5% of the surface past tau at each chart's own scale)\n")
+                  "(52 of them bound our patches; 12.5% of the surface past tau at each chart's own scale; "
+                  "not discs: 2 charts, 40.0% of the surface)\n")
         for variant, seams, fill in (("greedy", 100, "50.0"), ("unfold", 60, "70.0"), ("mixed", 45, "76.0"),
                                      ("crossing", 30, "77.0")):
             info, log = self.encode(variant, [prim(10, seams, 0.72)], source + f"atlas 0: 10x10, fill {fill}%,\n")
@@ -55,6 +56,8 @@ class LayoutReport(unittest.TestCase):
         self.assertEqual((rows[2]["source_charts"], rows[2]["source_seam_edges"], rows[2]["bound_seam_edges"]),
                          (7, 40, 52))
         self.assertAlmostEqual(rows[2]["source_beyond_tau"], 0.125)
+        self.assertEqual(rows[2]["source_non_disc_charts"], 2)
+        self.assertAlmostEqual(rows[2]["source_non_disc_area"], 0.4)
         for variant in ("greedy", "unfold"):  # a plane: no seam to halve
             info, log = self.encode("p" + variant, [prim(2, 0, 1.0)], "atlas 0: 10x10, fill 90.0%,\n")
             rows.append(layout_report.row("plane", variant, info, log, "0", "1"))
@@ -68,7 +71,7 @@ class LayoutReport(unittest.TestCase):
         self.assertIn("interior seam edges <= 0.5x greedy: met on 1 of 1 (1 models without greedy seams", md)
         self.assertIn("atlas fill >= 75%: met on 2 of 2.", md)
         # The source's charts: 52 bound seams > 0.5x greedy's 100; crossing is reported, not judged.
-        self.assertIn("| m | 7 | 40 | 12.5% | 52 | 50 | 45 | 30 |", md)
+        self.assertIn("| m | 7 (2) | 40 | 12.5% | 40.0% | 52 | 50 | 45 | 30 |", md)
         self.assertIn("fewer than the seams the source's charts bind: m.", md)
         self.assertIn("| m | crossing | 1.1 | 3 (0) | 30 | 0.30 |", md)
 

@@ -742,9 +742,42 @@ TEST(CorpusRoundTrip, SourceChartsMeasureOurSeams) {
   EXPECT_LE(keep.source.bound_seam_edges, keep.seam_edges);
   EXPECT_GE(keep.source.area_beyond_tau, 0.0);
   EXPECT_LT(keep.source.area_beyond_tau, 1.0);
+  EXPECT_LE(keep.source.non_disc_charts, keep.source.charts);
+  EXPECT_GE(keep.source.non_disc_area, 0.0);
+  EXPECT_LE(keep.source.non_disc_area, 1.0);
   EXPECT_EQ(cross.source.bound_seam_edges, 0u);
   EXPECT_EQ(cross.source.charts, keep.source.charts);
   EXPECT_EQ(cross.source.seam_edges, keep.source.seam_edges);
+  EXPECT_EQ(cross.source.non_disc_charts, keep.source.non_disc_charts);
+}
+
+// Known answers on generated samples. The plane's UVs are one chart, a
+// disc, without seams or stretch. The open cylinder's wrap round it (u from
+// 0 to 1 on a repeating texture, with no seam left in it) into one chart
+// that is a tube, no disc, which our patches must cut; its unit square
+// spans a circumference of 2 pi and a height of 2, so every face is
+// stretched about pi times across: all of the surface past tau.
+TEST(GeneratedRoundTrip, SourceChartsOfAPlaneAndATube) {
+  for (const std::string shape : {"plane", "cylinder"}) {
+    SCOPED_TRACE(shape);
+    tinygltf::Model model;
+    ASSERT_EQ(make_sample_model(shape, 2000, 128, model), "");
+    EncodeOptions o;
+    o.quality_fallback = false;
+    EncodeReport report;
+    ASSERT_FALSE(encode_model(model, o, report).failed());
+    ASSERT_EQ(report.primitives.size(), 1u);
+    const PrimitiveReport& p = report.primitives[0];
+    ASSERT_EQ(p.handling, Handling::implicit_uv);
+    const bool tube = shape == "cylinder";
+    EXPECT_EQ(p.source.charts, 1u);
+    EXPECT_EQ(p.source.seam_edges, 0u);
+    EXPECT_EQ(p.source.bound_seam_edges, 0u);
+    EXPECT_EQ(p.source.non_disc_charts, tube ? 1u : 0u);
+    EXPECT_DOUBLE_EQ(p.source.non_disc_area, tube ? 1.0 : 0.0);
+    EXPECT_DOUBLE_EQ(p.source.area_beyond_tau, tube ? 1.0 : 0.0);
+    EXPECT_EQ(p.patches > 1, tube);
+  }
 }
 
 // Issue 16, honest reports: with a lossy image coder the encoder prices the

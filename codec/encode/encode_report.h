@@ -129,9 +129,12 @@ struct PrimitiveReport {
   // the share of the surface the source's charts stretch past the rule our
   // patches keep (area_beyond_tau_at_own_scale): where it is large, the
   // source holds fewer seams than any layout within tau can.
+  // non_disc_charts: those of its charts that are no disc on this mesh (a
+  // slit, a hole): a patch must be one, so ours cut each at least once;
+  // non_disc_area: their share of the surface's 3D area.
   struct {
-    uint32_t charts = 0, seam_edges = 0, bound_seam_edges = 0;
-    double area_beyond_tau = 0;
+    uint32_t charts = 0, non_disc_charts = 0, seam_edges = 0, bound_seam_edges = 0;
+    double area_beyond_tau = 0, non_disc_area = 0;
   } source;
   size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
   int atlas = -1;              // index into EncodeReport::atlases

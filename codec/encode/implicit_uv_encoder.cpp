@@ -8,6 +8,7 @@
 
 #include "codec/core/corner_match.h"
 #include "codec/core/layout_report.h"
+#include "codec/core/layout_solve.h"
 #include "codec/core/parallel.h"
 #include "codec/decode/embedding_mesh.h"
 #include "codec/encode/atlas/pack.h"
@@ -630,6 +631,24 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   const std::vector<uint32_t> own_charts = source_charts(ip.tri, ip.source_uv);
   pr.source.charts = own_charts.empty() ? 0 : *std::max_element(own_charts.begin(), own_charts.end()) + 1;
   pr.source.seam_edges = seam_edges_between(ip.tri, own_charts);
+  {
+    // solve_patch's validation alone (no iteration) says whether a face set is a disc.
+    std::vector<std::vector<uint32_t>> chart_faces(pr.source.charts);
+    for (uint32_t f = 0; f < own_charts.size(); ++f) chart_faces[own_charts[f]].push_back(f);
+    std::vector<Vec2> positions(ip.tri.vertex_count());
+    SolveScratch scratch;
+    double non_disc = 0, total = 0;
+    for (const std::vector<uint32_t>& faces : chart_faces) {
+      double area = 0;
+      for (const uint32_t f : faces) area += face_area3(ip.tri, f);
+      total += area;
+      if (solve_patch(ip.tri, faces, SolveParams{0, 0, 0, false}, positions, scratch) == SolveStatus::ok)
+        continue;
+      ++pr.source.non_disc_charts;
+      non_disc += area;
+    }
+    pr.source.non_disc_area = total > 0 ? non_disc / total : 0.0;
+  }
   pr.source.bound_seam_edges = seam_edges_between(ip.tri, prepared.face_chart);
   if (context.image_w > 0) {
     std::vector<double> source_texels(ip.source_uv.size());
