@@ -101,6 +101,24 @@ struct Fallback {
   double max_source_uv = 0;
 };
 
+// The source's own UV layout on the embedding mesh, the yardstick of our
+// seams (measure_source_charts).
+struct SourceChartMeasures {
+  // Faces joined across edges whose two faces carry the same UVs at both ends.
+  uint32_t charts = 0;
+  // Charts that are no disc on this mesh (a slit, a hole): a patch must be
+  // one, so ours cut them; and their share of the surface's 3D area.
+  uint32_t non_disc_charts = 0;
+  double non_disc_area = 0;
+  // Interior edges between two charts; and between two of the charts the
+  // partition ran with (seams the texture shows, slits, page regions):
+  // no patch crosses one, so each is a seam of ours too.
+  uint32_t seam_edges = 0, bound_seam_edges = 0;
+  // The share of the surface the charts stretch past the rule our patches
+  // keep, each chart at its own scale (area_beyond_tau_at_own_scale).
+  double area_beyond_tau = 0;
+};
+
 struct PrimitiveReport {
   int mesh = -1, primitive = -1;
   Handling handling = Handling::draco;
@@ -120,22 +138,7 @@ struct PrimitiveReport {
     uint32_t patches = 0, seam_edges = 0, holes = 0;
     double rect_fill = 0;
   } greedy;
-  // The source's own UV layout on the same mesh, the yardstick of our seams:
-  // its charts (faces joined across edges whose two faces carry the same
-  // UVs at both ends) and their interior seam edges; and of the edges
-  // between the charts the partition ran with (EncodeOptions::
-  // keep_source_charts: seams the textures show, slits, page regions), the
-  // count, which no patch crosses: every one is a seam of ours too. And
-  // the share of the surface the source's charts stretch past the rule our
-  // patches keep (area_beyond_tau_at_own_scale): where it is large, the
-  // source holds fewer seams than any layout within tau can.
-  // non_disc_charts: those of its charts that are no disc on this mesh (a
-  // slit, a hole): a patch must be one, so ours cut each at least once;
-  // non_disc_area: their share of the surface's 3D area.
-  struct {
-    uint32_t charts = 0, non_disc_charts = 0, seam_edges = 0, bound_seam_edges = 0;
-    double area_beyond_tau = 0, non_disc_area = 0;
-  } source;
+  SourceChartMeasures source;  // the source's own UV charts beside our patches (source_chart_measures.h)
   size_t unmatched_faces = 0;  // decoded faces not traced back to a source face
   int atlas = -1;              // index into EncodeReport::atlases
   uint32_t cut_parts = 0;      // > 1: the source primitive was cut into this many, one atlas page each

@@ -7,8 +7,6 @@
 #include <set>
 
 #include "codec/core/corner_match.h"
-#include "codec/core/layout_report.h"
-#include "codec/core/layout_solve.h"
 #include "codec/core/parallel.h"
 #include "codec/decode/embedding_mesh.h"
 #include "codec/encode/atlas/pack.h"
@@ -18,6 +16,7 @@
 #include "codec/encode/partition/embed.h"
 #include "codec/encode/partition/source_charts.h"
 #include "codec/encode/partition/twin_partition.h"
+#include "codec/encode/source_chart_measures.h"
 #include "codec/encode/texture/image_io.h"
 #include "codec/encode/texture/seam_continuity.h"
 #include "codec/encode/texture/texture_sampler.h"
@@ -628,34 +627,8 @@ Error prepare_implicit_primitive(tinygltf::Model& model, tinygltf::Primitive& pr
   pr.seam_edges = er.report.seam_edges;
   pr.rect_fill = er.report.fill;
   pr.holes = er.report.holes;
-  const std::vector<uint32_t> own_charts = source_charts(ip.tri, ip.source_uv);
-  pr.source.charts = own_charts.empty() ? 0 : *std::max_element(own_charts.begin(), own_charts.end()) + 1;
-  pr.source.seam_edges = seam_edges_between(ip.tri, own_charts);
-  {
-    // solve_patch's validation alone (no iteration) says whether a face set is a disc.
-    std::vector<std::vector<uint32_t>> chart_faces(pr.source.charts);
-    for (uint32_t f = 0; f < own_charts.size(); ++f) chart_faces[own_charts[f]].push_back(f);
-    std::vector<Vec2> positions(ip.tri.vertex_count());
-    SolveScratch scratch;
-    double non_disc = 0, total = 0;
-    for (const std::vector<uint32_t>& faces : chart_faces) {
-      double area = 0;
-      for (const uint32_t f : faces) area += face_area3(ip.tri, f);
-      total += area;
-      if (solve_patch(ip.tri, faces, SolveParams{0, 0, 0, false}, positions, scratch) == SolveStatus::ok)
-        continue;
-      ++pr.source.non_disc_charts;
-      non_disc += area;
-    }
-    pr.source.non_disc_area = total > 0 ? non_disc / total : 0.0;
-  }
-  pr.source.bound_seam_edges = seam_edges_between(ip.tri, prepared.face_chart);
-  if (context.image_w > 0) {
-    std::vector<double> source_texels(ip.source_uv.size());
-    for (size_t i = 0; i < source_texels.size(); ++i)
-      source_texels[i] = double(ip.source_uv[i]) * (i % 2 ? context.image_h : context.image_w);
-    pr.source.area_beyond_tau = area_beyond_tau_at_own_scale(ip.tri, own_charts, source_texels, options.tau);
-  }
+  pr.source = measure_source_charts(ip.tri, ip.source_uv, prepared.face_chart, context.image_w,
+                                    context.image_h, options.tau);
   if (options.report_greedy && !options.greedy_partition) {
     // The paper's plain growth on the same mesh, for comparison only.
     EmbedOptions go = partition_options(options, prepared.face_density, prepared.face_chart);
