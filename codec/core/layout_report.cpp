@@ -57,9 +57,8 @@ double patch_fill(std::span<const uint32_t> faces, const std::vector<double>& xy
   return r.area > 0 ? std::min(1.0, area / r.area) : 1.0;
 }
 
-uint32_t seam_edges_between(const TriMesh& mesh, std::span<const uint32_t> label_of_face) {
-  if (label_of_face.size() != mesh.face_count()) return 0;
-  const std::vector<uint32_t> opp = build_opposite_corners(mesh, build_vertex_faces(mesh));
+uint32_t seam_edges_between(std::span<const uint32_t> opp, std::span<const uint32_t> label_of_face) {
+  if (opp.size() != 3 * label_of_face.size()) return 0;
   uint32_t seams = 0;
   for (size_t c = 0; c < opp.size(); ++c)
     seams += opp[c] != kNone && opp[c] > c && label_of_face[c / 3] != label_of_face[opp[c] / 3];
@@ -75,7 +74,7 @@ double area_beyond_tau_at_own_scale(const TriMesh& mesh, std::span<const uint32_
     for (int k = 0; k < 3; ++k)
       P[k] = {s * corner_xy[6 * size_t{f} + 2 * k], s * corner_xy[6 * size_t{f} + 2 * k + 1]};
   };
-  std::vector<double> log_sum(labels, 0.0), weight(labels, 0.0);
+  std::vector<double> log_sum(labels, 0.0), weight(labels, 0.0), area(nf);
   for (uint32_t f = 0; f < nf; ++f) {
     Vec2 P[3];
     corners(f, 1.0, P);
@@ -88,17 +87,17 @@ double area_beyond_tau_at_own_scale(const TriMesh& mesh, std::span<const uint32_
       finite = l3 > 0 && l2 > 0 && std::isfinite(l3) && std::isfinite(l2);
       if (finite) log_ratio += std::log(l2 / l3) / 3;
     }
-    const double area = face_area3(mesh, f);
-    if (finite && area > 0) log_sum[label_of_face[f]] += area * log_ratio, weight[label_of_face[f]] += area;
+    area[f] = face_area3(mesh, f);
+    if (finite && area[f] > 0)
+      log_sum[label_of_face[f]] += area[f] * log_ratio, weight[label_of_face[f]] += area[f];
   }
   double beyond = 0, total = 0;
   for (uint32_t f = 0; f < nf; ++f) {
     const uint32_t l = label_of_face[f];
-    const double area = face_area3(mesh, f);
     Vec2 P[3];
     corners(f, weight[l] > 0 ? std::exp(-log_sum[l] / weight[l]) : 1.0, P);
-    total += area;
-    if (!face_within_tau(mesh, f, P, tau)) beyond += area;
+    total += area[f];
+    if (!face_within_tau(mesh, f, P, tau)) beyond += area[f];
   }
   return total > 0 ? beyond / total : 0.0;
 }

@@ -37,8 +37,10 @@ EmbedReport measure_embedding(const TriMesh& mesh, std::span<const uint32_t> pat
 
 // Manifold interior edges whose two faces carry different labels: the seams
 // of any face labelling (patches, source UV charts), counted as
-// measure_embedding counts a partition's.
-uint32_t seam_edges_between(const TriMesh& mesh, std::span<const uint32_t> label_of_face);
+// measure_embedding counts a partition's. opposite_corner: the mesh's
+// (topology.h), built once by a caller that counts several labellings.
+uint32_t seam_edges_between(std::span<const uint32_t> opposite_corner,
+                            std::span<const uint32_t> label_of_face);
 
 // The share of the surface's 3D area on faces that a layout takes past the
 // encoder's rule (face_within_tau) once each label's faces are scaled by

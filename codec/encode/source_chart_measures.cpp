@@ -6,6 +6,7 @@
 
 #include "codec/core/layout_report.h"
 #include "codec/core/layout_solve.h"
+#include "codec/core/topology.h"
 #include "codec/encode/partition/source_charts.h"
 
 namespace gltfwarp {
@@ -17,8 +18,9 @@ SourceChartMeasures measure_source_charts(const TriMesh& mesh, std::span<const f
   const std::vector<uint32_t> charts = source_charts(mesh, source_uv);
   if (charts.empty()) return m;
   m.charts = *std::max_element(charts.begin(), charts.end()) + 1;
-  m.seam_edges = seam_edges_between(mesh, charts);
-  m.bound_seam_edges = seam_edges_between(mesh, partition_charts);
+  const std::vector<uint32_t> opp = build_opposite_corners(mesh, build_vertex_faces(mesh));
+  m.seam_edges = seam_edges_between(opp, charts);
+  m.bound_seam_edges = seam_edges_between(opp, partition_charts);
   // solve_patch's validation alone (no iteration) says whether a face set is a disc.
   std::vector<std::vector<uint32_t>> chart_faces(m.charts);
   for (uint32_t f = 0; f < charts.size(); ++f) chart_faces[charts[f]].push_back(f);
