@@ -7,6 +7,7 @@
 #include "codec/core/layout.h"
 #include "codec/core/layout_report.h"
 #include "codec/decode/embedding_mesh.h"
+#include "codec/decode/implicit_uv_primitive.h"
 #include "format/bitstream/decode_uvs.h"
 #include "format/bitstream/uvmap_codec.h"
 #include "format/gltf/extension.h"
@@ -28,16 +29,6 @@ int named_view(const tinygltf::Model& m, const tinygltf::Value& ext) {
 size_t view_bytes(const tinygltf::Model& m, const tinygltf::Value& ext) {
   const int v = named_view(m, ext);
   return v >= 0 ? m.bufferViews[v].byteLength : 0;
-}
-
-std::span<const uint8_t> view_span(const tinygltf::Model& m, const tinygltf::Value& ext) {
-  const int v = named_view(m, ext);
-  if (v < 0) return {};
-  const auto& bv = m.bufferViews[v];
-  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= m.buffers.size()) return {};
-  const size_t size = m.buffers[bv.buffer].data.size();
-  if (bv.byteOffset > size || bv.byteLength > size - bv.byteOffset) return {};
-  return {m.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
 }
 
 }  // namespace
@@ -88,7 +79,12 @@ Runner add_info(CLI::App& app) {
           p["geometry_bytes"] = b;
         }
         if (ours) {
-          const auto bytes = view_span(model, prim.extensions.at(ext::kName));
+          // The checks decode makes, so that info never replays what decode would refuse.
+          ReplayInput in;
+          if (std::string bad = replay_input(model, prim, geom, in); !bad.empty())
+            return fail(a->in + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " +
+                        bad);
+          const auto bytes = in.bitstream;
           UvStreamInfo si;
           UvStatus st = read_uvmap_info(bytes, si);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
@@ -103,7 +99,7 @@ Runner add_info(CLI::App& app) {
           p["bits_per_triangle"] = tris ? 8.0 * si.total_bytes / double(tris) : 0.0;
           // Quality of the map, measured on the replay the decoder runs.
           std::vector<uint32_t> p2v;
-          const TriMesh mesh = embedding_mesh(*geom.find("POSITION"), geom.triangles, p2v);
+          const TriMesh mesh = embedding_mesh(*in.position, geom.triangles, p2v);
           std::vector<float> uv;
           UvMap map;
           st = decode_uvs(mesh, bytes, uv, &map);

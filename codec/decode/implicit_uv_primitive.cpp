@@ -73,9 +73,11 @@ void split_by_corner_uv(PrimitiveGeometry& geom, const std::vector<float>& corne
   geom.attributes.push_back(VertexAttribute::from_floats("TEXCOORD_0", 2, uvs));
 }
 
-std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim,
-                              PrimitiveGeometry& geom) {
-  const auto& ext = prim.extensions.at(ext::kName);
+std::string replay_input(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                         const PrimitiveGeometry& geom, ReplayInput& in) {
+  const auto found = prim.extensions.find(ext::kName);
+  if (found == prim.extensions.end()) return std::string("primitive has no ") + ext::kName;
+  const auto& ext = found->second;
   if (!ext.IsObject() || !ext.Has("bufferView")) return std::string(ext::kName) + " object has no bufferView";
   const int view = value_index(ext.Get("bufferView"));
   if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
@@ -99,16 +101,24 @@ std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Prim
       for (int i = 0; i < 3; ++i)
         if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
   }
+  in.bitstream = {model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
+  in.position = pos;
+  return {};
+}
 
+std::string rebuild_texcoords(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                              PrimitiveGeometry& geom) {
+  ReplayInput in;
+  if (std::string err = replay_input(model, prim, geom, in); !err.empty()) return err;
   std::vector<uint32_t> point_to_vertex;
-  const TriMesh mesh = embedding_mesh(*pos, geom.triangles, point_to_vertex);
+  const TriMesh mesh = embedding_mesh(*in.position, geom.triangles, point_to_vertex);
   std::vector<float> corner_uv;
-  const std::span<const uint8_t> bytes(model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength);
-  const UvStatus st = decode_uvs(mesh, bytes, corner_uv);
+  const UvStatus st = decode_uvs(mesh, in.bitstream, corner_uv);
   if (st != UvStatus::ok) return std::string("bad UV bitstream: ") + to_string(st);
   if (corner_uv.size() != geom.triangles.size() * 2) return "bad UV bitstream: wrong number of corner UVs";
 
   split_by_corner_uv(geom, corner_uv);
+  const auto& ext = prim.extensions.at(ext::kName);  // replay_input found it an object
   const bool tangents =
       ext.Has("tangents") && ext.Get("tangents").IsBool() && ext.Get("tangents").Get<bool>();
   const VertexAttribute* normal = geom.find("NORMAL");

@@ -2,6 +2,8 @@
 // and turning decoded geometry + bitstream into a primitive with TEXCOORD_0.
 #pragma once
 
+#include <cstdint>
+#include <span>
 #include <string>
 
 #include <tiny_gltf.h>
@@ -10,6 +12,19 @@
 #include "format/gltf/gltf_primitive.h"
 
 namespace gltfwarp {
+
+// What the UV replay reads from one implicit-UV primitive, checked so that
+// neither the bitstream reader nor the replay can read out of bounds.
+struct ReplayInput {
+  std::span<const uint8_t> bitstream;         // the extension's bufferView, inside its buffer
+  const VertexAttribute* position = nullptr;  // 3 components, every one finite
+};
+
+// Fills `in` from the primitive's extension object and its decoded geometry
+// `geom` (which `in.position` then points into). Empty string or a one-line
+// error. Every reader of our streams (decode, info) goes through it.
+std::string replay_input(const tinygltf::Model& model, const tinygltf::Primitive& prim,
+                         const PrimitiveGeometry& geom, ReplayInput& in);
 
 // Rebuilds TEXCOORD_0 for `geom` (the primitive's decoded geometry): runs
 // decode_uvs on the embedding mesh, splits every point whose corners got
