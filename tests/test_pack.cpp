@@ -357,6 +357,21 @@ TEST(TexelDensity, MeasuresTexelsPerUnit) {
   EXPECT_NEAR(auto_texel_scale({&p, 1}, o).texel_scale, 32, 1e-3);
 }
 
+TEST(TexelDensity, ScaleFollowsTheModelsUnits) {
+  // The same textured square in units from 1e-20 to 1e30: the atlas must get
+  // the same texels, so the scale (texels per unit) goes as 1 / unit. An
+  // absolute floor of 1e-9 texels per unit once made the 1e30 square 4096².
+  const std::vector<float> uv = {0, 0, 1, 0, 1, 1, 0, 0, 1, 1, 0, 1};
+  for (const float unit : {1e-20f, 1.0f, 1e6f, 1e30f}) {
+    SCOPED_TRACE(unit);
+    TriMesh m;
+    m.positions = {0, 0, 0, unit, 0, 0, unit, unit, 0, 0, unit, 0};
+    m.indices = {0, 1, 2, 0, 2, 3};
+    const DensityPrimitive p{&m, uv, 64, 64};
+    EXPECT_NEAR(auto_texel_scale({&p, 1}).texel_scale * unit, 64, 1);
+  }
+}
+
 TEST(Pack, PerPatchScaleKeepsEachPatchsDensity) {
   const GenPrim a = generate(40, 8);
   // Source density: 8 texels per unit on even patches, 2 on odd ones.

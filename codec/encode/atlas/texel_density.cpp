@@ -226,7 +226,10 @@ TexelDensityReport auto_texel_scale(std::span<const DensityPrimitive> prims,
       scale = pct(std::clamp(options.percentile, 0.0, 1.0));
       break;
   }
-  r.texel_scale = std::max(scale, options.min_scale);
+  // Floor at one texel over the whole surface, relative to the model's own
+  // units: an absolute floor in texels per unit blew a model measured in
+  // units of 1e30 up to the atlas cap (a 5x5 grid warped 14M texels).
+  r.texel_scale = std::max(scale, 1 / std::sqrt(r.surface_area));
   return r;
 }
 

@@ -37,7 +37,8 @@ enum class DensityMode : uint8_t {
 struct TexelDensityOptions {
   DensityMode mode = DensityMode::preserve_used_texels;  // default: same texel budget as source
   double percentile = 0.9;                               // for DensityMode::percentile, in (0, 1]
-  double min_scale = 1e-9;                               // floor for the result (texels per unit)
+  double min_scale = 1e-9;  // the result where no face has both a 3D and a texel area (texels per unit);
+                            // otherwise the floor is one texel over the whole surface
 };
 
 struct TexelDensityReport {
