@@ -820,23 +820,22 @@ int main(int argc, char** argv) {
       double target_psnr = -1;  // EncodeOptions::goal_psnr (-1: the default aim)
       bool by_area = false;     // EncodeOptions::quality_weight: surface_area (encode --quality-weight area)
     };
-    std::vector<Variant> vs = {
-        {"fixed density", "keep", 0, true},
-        {"png", "png", 0, false},
-        {"png target 40", "png", 0, false, 40},
-        {"png traded down", "png", 0, false, 0},
-        // Rate control: the JPEG quality chosen for the target (38, 40 and 44
-        // are --quality low, medium and high). The others are what a user asks
-        // between and around them: without them the fit bridged the baselines'
-        // many files with one segment of ours (the truck: 40 to 44 dB).
-        {"jpeg target 36", "jpeg", 0, false, 36},
-        {"jpeg target 38", "jpeg", 0, false, 38},
-        {"jpeg target 40", "jpeg", 0, false, 40},
-        {"jpeg target 42", "jpeg", 0, false, 42},
-        {"jpeg target 44", "jpeg", 0, false, 44},
-        {"jpeg target 48", "jpeg", 0, false, 48},
-        // The default with its floor and aim weighed by 3D area, not per texel.
-        {"default by area", "keep", 0, false, -1, true}};
+    std::vector<Variant> vs = {{"fixed density", "keep", 0, true},
+                               {"png", "png", 0, false},
+                               {"png target 40", "png", 0, false, 40},
+                               {"png traded down", "png", 0, false, 0},
+                               // Rate control: the JPEG quality chosen for the target (38, 40 and 44
+                               // are --quality low, medium and high). The others are what a user asks
+                               // between and around them: without them the fit bridged the baselines'
+                               // many files with one segment of ours (the truck: 40 to 44 dB).
+                               {"jpeg target 36", "jpeg", 0, false, 36},
+                               {"jpeg target 38", "jpeg", 0, false, 38},
+                               {"jpeg target 40", "jpeg", 0, false, 40},
+                               {"jpeg target 42", "jpeg", 0, false, 42},
+                               {"jpeg target 44", "jpeg", 0, false, 44},
+                               {"jpeg target 48", "jpeg", 0, false, 48},
+                               // The default with its floor and aim weighed by 3D area, not per texel.
+                               {"default by area", "keep", 0, false, -1, true}};
     for (int q : ladder) vs.push_back({"jpeg q" + std::to_string(q), "jpeg", q, false});
     for (const auto& v : vs) {
       EncodeOptions o = defaults;
