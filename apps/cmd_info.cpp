@@ -84,9 +84,8 @@ Runner add_info(CLI::App& app) {
           if (std::string bad = replay_input(model, prim, geom, in); !bad.empty())
             return fail(a->in + ": mesh " + std::to_string(mi) + " primitive " + std::to_string(pi) + ": " +
                         bad);
-          const auto bytes = in.bitstream;
           UvStreamInfo si;
-          UvStatus st = read_uvmap_info(bytes, si);
+          UvStatus st = read_uvmap_info(in.bitstream, si);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
           p["bitstream_bytes"] = si.total_bytes;
           p["bitstream_sections"] = {{"header", si.header_bytes},
@@ -102,7 +101,7 @@ Runner add_info(CLI::App& app) {
           const TriMesh mesh = embedding_mesh(*in.position, geom.triangles, p2v);
           std::vector<float> uv;
           UvMap map;
-          st = decode_uvs(mesh, bytes, uv, &map);
+          st = decode_uvs(mesh, in.bitstream, uv, &map);
           if (st != UvStatus::ok) return fail(a->in + ": bad UV bitstream: " + to_string(st));
           std::vector<double> xy;
           layout_patches(mesh, map.patch_of_face, map.patch_count, xy, map.seeds, map.methods, map.solve);

@@ -79,14 +79,7 @@ std::string replay_input(const tinygltf::Model& model, const tinygltf::Primitive
   if (found == prim.extensions.end()) return std::string("primitive has no ") + ext::kName;
   const auto& ext = found->second;
   if (!ext.IsObject() || !ext.Has("bufferView")) return std::string(ext::kName) + " object has no bufferView";
-  const int view = value_index(ext.Get("bufferView"));
-  if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
-    return std::string(ext::kName) + " names a missing bufferView";
-  const auto& bv = model.bufferViews[view];
-  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model.buffers.size() ||
-      bv.byteOffset > model.buffers[bv.buffer].data.size() ||
-      bv.byteLength > model.buffers[bv.buffer].data.size() - bv.byteOffset)
-    return std::string(ext::kName) + " bufferView runs past its buffer";
+  if (std::string e = extension_view_bytes(model, ext, ext::kName, in.bitstream); !e.empty()) return e;
   const VertexAttribute* pos = geom.find("POSITION");
   if (!pos || pos->components != 3) return "primitive has no usable POSITION";
   // The encoder never lays out non-finite positions; the replay must not see them.
@@ -101,7 +94,6 @@ std::string replay_input(const tinygltf::Model& model, const tinygltf::Primitive
       for (int i = 0; i < 3; ++i)
         if (!std::isfinite(pos->get(e, i))) return "POSITION holds a NaN or infinite value";
   }
-  in.bitstream = {model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
   in.position = pos;
   return {};
 }

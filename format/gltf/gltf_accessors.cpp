@@ -121,6 +121,20 @@ int value_index(const tinygltf::Value& v) {
   return -1;
 }
 
+std::string extension_view_bytes(const tinygltf::Model& model, const tinygltf::Value& ext,
+                                 const std::string& extension, std::span<const uint8_t>& bytes) {
+  const int view = value_index(ext.Get("bufferView"));
+  if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
+    return extension + " names a missing bufferView";
+  const auto& bv = model.bufferViews[view];
+  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model.buffers.size() ||
+      bv.byteOffset > model.buffers[bv.buffer].data.size() ||
+      bv.byteLength > model.buffers[bv.buffer].data.size() - bv.byteOffset)
+    return extension + " bufferView runs past its buffer";
+  bytes = {model.buffers[bv.buffer].data.data() + bv.byteOffset, bv.byteLength};
+  return {};
+}
+
 std::vector<float> VertexAttribute::to_floats() const {
   std::vector<float> out(count() * static_cast<size_t>(components));
   for (size_t e = 0; e < count(); ++e)

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,13 @@ inline constexpr size_t kMinZeroFillBudget = size_t{64} << 20;
 // is an integer in [0, INT_MAX] (tinygltf's GetNumberAsInt casts any double,
 // which is undefined behaviour past int's range).
 int value_index(const tinygltf::Value& v);
+
+// The whole bufferView that an extension object's "bufferView" names
+// (Draco's, ours), checked to lie inside its buffer: into `bytes`. Empty
+// string, or a one-line error that starts with `extension`. The caller has
+// checked that the object has a "bufferView".
+std::string extension_view_bytes(const tinygltf::Model& model, const tinygltf::Value& ext,
+                                 const std::string& extension, std::span<const uint8_t>& bytes);
 
 size_t component_size(int component_type);
 int component_count(int accessor_type);  // TINYGLTF_TYPE_* -> 1..16

@@ -34,14 +34,8 @@ std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::P
   if (!ext.IsObject() || !ext.Has("bufferView") || !ext.Has("attributes") ||
       !ext.Get("attributes").IsObject())
     return std::string(kDracoExtension) + " object is malformed";
-  const int view = value_index(ext.Get("bufferView"));
-  if (view < 0 || static_cast<size_t>(view) >= model.bufferViews.size())
-    return std::string(kDracoExtension) + " names a missing bufferView";
-  const auto& bv = model.bufferViews[view];
-  if (bv.buffer < 0 || static_cast<size_t>(bv.buffer) >= model.buffers.size() ||
-      bv.byteOffset > model.buffers[bv.buffer].data.size() ||
-      bv.byteLength > model.buffers[bv.buffer].data.size() - bv.byteOffset)
-    return std::string(kDracoExtension) + " bufferView runs past its buffer";
+  std::span<const uint8_t> view;
+  if (std::string e = extension_view_bytes(model, ext, kDracoExtension, view); !e.empty()) return e;
   std::vector<DracoWanted> wanted;
   const auto& attrs = ext.Get("attributes");
   for (const auto& [semantic, acc_index] : prim.attributes) {
@@ -58,8 +52,7 @@ std::string read_draco_primitive(const tinygltf::Model& model, const tinygltf::P
     w.normalized = acc.normalized;
     wanted.push_back(w);
   }
-  const auto* bytes = model.buffers[bv.buffer].data.data() + bv.byteOffset;
-  DracoDecoded d = draco_decode(bytes, bv.byteLength, wanted);
+  DracoDecoded d = draco_decode(view.data(), view.size(), wanted);
   if (!d.error.empty()) return d.error;
   out.attributes = std::move(d.attributes);
   out.triangles = std::move(d.triangles);
