@@ -223,17 +223,17 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
         i, a.width, a.height, pages.c_str(), 100.0 * a.fill, a.overlapping_texels, a.density_factor, a.psnr,
         a.source_image_bytes, a.atlas_image_bytes);
     if (a.image_quality > 0)
-      std::printf("  rate control: %s q%d %s (%d qualities tried)\n", a.quality_reached ? "chose" : "kept",
-                  a.image_quality,
+      std::printf("  rate control: %s q%d %s (%d qualities probed, %d run whole)\n",
+                  a.quality_reached ? "chose" : "kept", a.image_quality,
                   a.quality_reached ? "as the fewest bytes reaching the target"
                                     : "as the closest tried: none reached the target",
-                  a.quality_trials);
+                  a.quality_probes, a.quality_trials);
     if (a.lossless_chosen)
       std::printf(
           "  rate control: chose PNG, as it reaches the target in fewer bytes than the best lossy quality "
           "tried "
-          "(q%d: %zu bytes; %d settings tried)\n",
-          a.lossy_quality_beaten, a.lossy_bytes_beaten, a.quality_trials);
+          "(q%d: %zu bytes; %d qualities probed, %d settings run whole)\n",
+          a.lossy_quality_beaten, a.lossy_bytes_beaten, a.quality_probes, a.quality_trials);
     if (a.reused_patches > 0)
       std::printf("  texel reuse: %u patches land on the texels of congruent ones (%.0f texels saved)\n",
                   a.reused_patches, a.reused_texels);

@@ -99,11 +99,35 @@ def per_model(jsonl, outdir):
           "## Bytes TEXCOORD_0 costs (textured primitives), and ours", "", table(rows, k1), "",
           "## Files and quality", "", table(rows, k2), "",
           "## Speed (same process; decode: median of %s runs)" % (rows[0].get("decode_runs") if rows else "?"), "",
-          table(rows, k3), "", "![bytes vs quality](rd.png)", ""]
+          table(rows, k3), ""] + rate_control_speed(rows) + ["![bytes vs quality](rd.png)", ""]
     md += bd_report(rows, outdir)
     open(os.path.join(outdir, "results.md"), "w").write("\n".join(md))
     plot(rows, os.path.join(outdir, "rd.png"))
     print("\n".join(md))
+
+
+def rate_control_speed(rows):
+    """Encode seconds of each of our rate-controlled points (`jpeg target N`), as a ratio to the model's
+    default encode in the same process: rate control's cost over the default, on a machine the noise of
+    which the ratio cancels."""
+    settings = sorted({p["setting"] for r in rows for p in r.get("rd", [])
+                       if p.get("curve") == "ours" and p["setting"].startswith("jpeg target") and "encode_s" in p},
+                      key=lambda name: float(name.split()[-1]))
+    if not settings:
+        return []
+    lines = ["### Rate control's encode time (`--target-psnr N`, JPEG), times the default encode", "",
+             "Each cell: the encode's seconds, and in brackets that over the default encode of the same model "
+             "in the same process (`encode s` above).", "",
+             "| model | default s | " + " | ".join(settings) + " |", "|---|---|" + "---|" * len(settings)]
+    for r in rows:
+        base = r.get("encode_s")
+        by_setting = {p["setting"]: p["encode_s"] for p in r.get("rd", [])
+                      if p.get("curve") == "ours" and "encode_s" in p}
+        if not base or not any(s in by_setting for s in settings):
+            continue
+        cells = [f"{by_setting[s]:.1f} ({by_setting[s] / base:.1f}x)" if s in by_setting else "-" for s in settings]
+        lines.append(f"| {r['model']} | {base:.1f} | " + " | ".join(cells) + " |")
+    return lines + [""]
 
 
 # --- BD-rate (issue 16) -------------------------------------------------------

@@ -51,12 +51,18 @@ QualityTrial jpeg_like(int q) { return {size_t(std::lround(1000.0 * std::exp(q /
 }  // namespace
 
 TEST(QualitySearch, FindsTheCheapestReachingQualityOnAMonotoneCurve) {
-  std::map<int, int> calls;
+  // Where the density cannot adapt, a probe and a run are the same atlas.
+  std::map<int, int> probes, runs;
   QualityChoice choice;
   const Error e = search_image_quality(
       40.0,
+      [&](int q, QualityProbe& p) {
+        ++probes[q];
+        p = {jpeg_like(q).psnr >= 40.0, jpeg_like(q)};
+        return Error();
+      },
       [&](int q, QualityTrial& t) {
-        ++calls[q];
+        ++runs[q];
         t = jpeg_like(q);
         return Error();
       },
@@ -68,70 +74,135 @@ TEST(QualitySearch, FindsTheCheapestReachingQualityOnAMonotoneCurve) {
   EXPECT_GE(choice.trial.psnr, 40.0);
   EXPECT_GE(choice.quality, 50);
   EXPECT_LE(choice.quality, 55);
-  for (const auto& [q, n] : calls) {
-    EXPECT_EQ(n, 1) << "q" << q << " run twice";
+  for (const auto& [q, n] : probes) {
+    EXPECT_EQ(n, 1) << "q" << q << " probed twice";
     const QualityTrial t = jpeg_like(q);
     if (t.psnr >= 40.0) {
       EXPECT_LE(choice.trial.bytes, t.bytes) << "q" << q;
     }
   }
-  EXPECT_EQ(choice.trials, int(calls.size()));
-  EXPECT_LE(choice.trials, 8);
+  for (const auto& [q, n] : runs) EXPECT_EQ(n, 1) << "q" << q << " run twice";
+  EXPECT_EQ(choice.probes, int(probes.size()));
+  EXPECT_LE(choice.probes, kMaxQualityProbes);
+  EXPECT_EQ(choice.trials, int(runs.size()));
+  EXPECT_LE(choice.trials, kMaxAdaptedRuns);
 }
 
-// The adaptive density lands each trial just above or below the target: a
-// near miss must not end the descent before a cheaper reaching quality.
-TEST(QualitySearch, ANearMissDoesNotStopTheDescent) {
+// The halving spends a quality's headroom on fewer texels, which a uniform
+// probe cannot: the cheapest run may sit below the cheapest probe, down to
+// the lowest quality that reaches. Both ends are run, and one between.
+TEST(QualitySearch, RunsFromTheCheapestProbeDownToTheLowestReaching) {
+  const std::map<int, QualityProbe> probed = {{95, {true, {30000, 45}}},   {85, {true, {20000, 44}}},
+                                              {72, {true, {16000, 42}}},   {58, {true, {12000, 41}}},
+                                              {45, {true, {13000, 40.5}}}, {32, {true, {14000, 40.2}}},
+                                              {20, {true, {15000, 40.1}}}};
+  const std::map<int, QualityTrial> adapted = {{58, {10000, 40.1}}, {32, {9000, 40.0}}, {20, {9500, 40.0}}};
+  std::vector<int> runs;
   QualityChoice choice;
-  const std::map<int, QualityTrial> curve = {
-      {95, {20000, 40.8}}, {85, {15000, 39.9}}, {72, {11000, 40.2}}, {58, {9000, 38.5}}, {45, {8000, 37.0}}};
   ASSERT_FALSE(search_image_quality(
                    40.0,
+                   [&](int q, QualityProbe& p) {
+                     p = probed.at(q);
+                     return Error();
+                   },
                    [&](int q, QualityTrial& t) {
-                     const auto it = curve.find(q);
-                     t = it != curve.end() ? it->second : QualityTrial{7000, 30.0};  // bisections miss
+                     runs.push_back(q);
+                     const auto it = adapted.find(q);
+                     t = it != adapted.end() ? it->second : QualityTrial{11000, 40.0};
                      return Error();
                    },
                    choice)
                    .failed());
+  EXPECT_EQ(runs, (std::vector<int>{58, 32, 20}));
   EXPECT_TRUE(choice.reached);
-  EXPECT_EQ(choice.quality, 72);
-  EXPECT_EQ(choice.trial.bytes, 11000u);
+  EXPECT_EQ(choice.quality, 32);
+  EXPECT_EQ(choice.trial.bytes, 9000u);
+  EXPECT_EQ(choice.probes, 7);
+  EXPECT_EQ(choice.trials, 3);
 }
 
-TEST(QualitySearch, NoneReachingGivesTheClosestAndSaysSo) {
+// A quality that cannot reach the target at the densest layout ends the
+// descent: the ones below are never probed.
+TEST(QualitySearch, AMissEndsTheDescent) {
+  std::vector<int> probes;
   QualityChoice choice;
-  ASSERT_FALSE(
-      search_image_quality(
-          45.5,
-          [](int q, QualityTrial& t) {
-            t = {size_t(q) * 100, q == 85 ? 45.0 : 44.9};  // near misses all; the top not the closest
-            return Error();
-          },
-          choice)
-          .failed());
+  ASSERT_FALSE(search_image_quality(
+                   40.0,
+                   [&](int q, QualityProbe& p) {
+                     probes.push_back(q);
+                     p = {q >= 72, {size_t(q) * 100, q >= 72 ? 41.0 : 39.0}};
+                     return Error();
+                   },
+                   [&](int q, QualityTrial& t) {
+                     t = {size_t(q) * 90, 40.5};
+                     return Error();
+                   },
+                   choice)
+                   .failed());
+  EXPECT_EQ(std::count_if(probes.begin(), probes.end(), [](int q) { return q < 58; }), 0)
+      << "probed below the first miss";
+  EXPECT_TRUE(choice.reached);
+  EXPECT_EQ(choice.quality, 72);  // 65 and 68 (the bisection) miss too
+}
+
+// The top quality missing at the densest layout, no lower one can reach:
+// that one is run (the closest) and the choice says it missed.
+TEST(QualitySearch, NoneReachingGivesTheClosestAndSaysSo) {
+  std::vector<int> probes, runs;
+  QualityChoice choice;
+  ASSERT_FALSE(search_image_quality(
+                   45.5,
+                   [&](int q, QualityProbe& p) {
+                     probes.push_back(q);
+                     p = {false, {size_t(q) * 100, 45.0}};
+                     return Error();
+                   },
+                   [&](int q, QualityTrial& t) {
+                     runs.push_back(q);
+                     t = {size_t(q) * 100, 45.1};
+                     return Error();
+                   },
+                   choice)
+                   .failed());
   EXPECT_FALSE(choice.reached);
-  EXPECT_EQ(choice.quality, 85);
+  EXPECT_EQ(choice.quality, 95);
+  EXPECT_EQ(probes, std::vector<int>{95});
+  EXPECT_EQ(runs, std::vector<int>{95});
+  EXPECT_EQ(choice.trial.psnr, 45.1);
 }
 
 TEST(QualitySearch, AnErrorEndsTheSearch) {
   QualityChoice choice;
-  int runs = 0;
+  int probes = 0, runs = 0;
   const Error e = search_image_quality(
       40.0,
+      [&](int, QualityProbe&) {
+        ++probes;
+        return Error{ErrorCode::internal, "warp failed"};
+      },
       [&](int, QualityTrial&) {
         ++runs;
-        return Error{ErrorCode::internal, "warp failed"};
+        return Error();
       },
       choice);
   EXPECT_TRUE(e.failed());
+  EXPECT_EQ(probes, 1);
+  EXPECT_EQ(runs, 0);
+  const Error in_run = search_image_quality(
+      40.0,
+      [&](int q, QualityProbe& p) {
+        p = {true, {size_t(q), 41.0}};
+        return Error();
+      },
+      [&](int, QualityTrial&) {
+        ++runs;
+        return Error{ErrorCode::internal, "pack failed"};
+      },
+      choice);
+  EXPECT_TRUE(in_run.failed());
   EXPECT_EQ(runs, 1);
 }
 
-// The Duck's texture as JPEG at a 40 dB target: the chosen quality reaches
-// the target, and costs fewer bytes than the fixed q90 a user might type
-// for it (which also reaches it). Since the lossless candidate the written
-// atlas is the Duck's PNG (5.9 KB at 40.75 dB, below the best JPEG's 6.3 KB).
 TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
   GLTFWARP_REQUIRE_CORPUS();
   AtlasReport chosen, fixed90;
@@ -144,9 +215,10 @@ TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
       },
       chosen));
   ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions& o) { o.image_quality = 90; }, fixed90));
-  std::printf("Duck at 40 dB: rate control q%d%s %zu B %.2f dB (%d trials); q90 %zu B %.2f dB\n",
+  std::printf("Duck at 40 dB: rate control q%d%s %zu B %.2f dB (%d probes, %d runs); q90 %zu B %.2f dB\n",
               chosen.image_quality, chosen.lossless_chosen ? " (PNG)" : "", chosen.atlas_image_bytes,
-              chosen.psnr, chosen.quality_trials, fixed90.atlas_image_bytes, fixed90.psnr);
+              chosen.psnr, chosen.quality_probes, chosen.quality_trials, fixed90.atlas_image_bytes,
+              fixed90.psnr);
   ASSERT_GE(fixed90.psnr, 40.0) << "precondition: the fixed quality reaches the target";
   EXPECT_TRUE(chosen.quality_reached);
   // A JPEG quality, or the lossless atlas where that is smaller still.
@@ -154,9 +226,15 @@ TEST(RateControl, TheDuckReachesTheTargetWithFewerBytesThanAFixedQuality) {
   EXPECT_GE(chosen.psnr, 40.0);
   EXPECT_LT(chosen.atlas_image_bytes, fixed90.atlas_image_bytes);
   EXPECT_EQ(fixed90.image_quality, 0) << "a quality given is not searched";
-  // One step per quality tried, one for the lossless candidate, never back.
+  // The whole density pipeline runs at a few qualities only (the rest are
+  // probes at uniform densities), and once more losslessly.
+  EXPECT_GE(chosen.quality_probes, 1);
+  EXPECT_LE(chosen.quality_probes, kMaxQualityProbes);
+  EXPECT_LE(chosen.quality_trials, kMaxAdaptedRuns + 1);
+  // One step per quality probed or run, one for the lossless candidate, never back.
   EXPECT_TRUE(std::is_sorted(shown.begin(), shown.end()));
-  EXPECT_GE(shown.size(), size_t(chosen.quality_trials) + 1);
+  EXPECT_GE(shown.size(),
+            size_t(chosen.quality_probes + chosen.quality_trials) + (chosen.lossless_chosen ? 0 : 1));
   ASSERT_FALSE(shown.empty());
   EXPECT_EQ(shown.back(), 1.0);
   EXPECT_GE(shown.front(), 0.0);

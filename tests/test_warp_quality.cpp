@@ -48,6 +48,35 @@ TEST(WarpQuality, IdenticalIs99AndAShiftIsSeen) {
   EXPECT_EQ(surface_error(scaled, b, tx).psnr(), 99.0);
 }
 
+// Rate control measures one group's faces against one source dozens of
+// times: the source's values at the points are kept (SourceSamples) and
+// only the atlas side is sampled again. The figures must be the same bits
+// as a measure that samples both, for every atlas, also when a budget
+// thins the faces (fewer points: the kept values are sampled again).
+TEST(WarpQuality, KeptSourceSamplesGiveTheSameFigures) {
+  TextureSampler source, near_copy, shifted_copy;
+  const std::array<double, 6> id{1, 0, 0, 0, 1, 0};
+  load_texture_sampler(checker(64, 3), true, 33071, 33071, id, source);
+  load_texture_sampler(checker(64, 3), true, 33071, 33071, id, near_copy);
+  load_texture_sampler(checker(64, 2), true, 33071, 33071, id, shifted_copy);
+  const std::vector<float> uv = square(0, 0), moved = square(0.3f / 64, 0.1f / 64);
+  const SurfaceUvs on_uv[] = {{uv, moved, {}, {}}};
+  SourceSamples kept;
+  for (const TextureSampler* atlas : {&near_copy, &shifted_copy, &near_copy})
+    for (uint64_t budget : {uint64_t(4'000'000), uint64_t(500), uint64_t(4'000'000)}) {
+      std::vector<SurfaceError> plain_groups, kept_groups;
+      const SurfaceError plain = surface_error(source, *atlas, on_uv, budget, &plain_groups);
+      const SurfaceError cached = surface_error(source, *atlas, on_uv, budget, &kept_groups, &kept);
+      EXPECT_EQ(plain.squared, cached.squared) << "budget " << budget;
+      EXPECT_EQ(plain.values, cached.values);
+      EXPECT_EQ(plain.points, cached.points);
+      ASSERT_EQ(plain_groups.size(), kept_groups.size());
+      EXPECT_LT(plain.psnr(), 60.0) << "precondition: the atlas differs from the source";
+    }
+  ASSERT_EQ(kept.prims.size(), 1u);
+  EXPECT_EQ(kept.prims.begin()->second.size(), 2u) << "one entry per face";
+}
+
 TEST(WarpQuality, PointBudgetSpreadsOverFaces) {
   TextureSampler a;
   load_texture_sampler(checker(256, 8), false, 10497, 10497, {1, 0, 0, 0, 1, 0}, a);

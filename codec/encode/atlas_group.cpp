@@ -434,17 +434,59 @@ bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, cons
 // 9.9 KB PNG atlas against 14.9 KB at the best JPEG quality, q75, which also
 // made explicit UVs look cheaper). It is written where it reaches the target and
 // is smaller; `quality` stays the lossy search's, for the sources of a group
-// that keeps explicit UVs. `done` hears the share of the trials run so far
-// (of kMaxQualityTrials and the lossless one), for the progress display.
+// that keeps explicit UVs. `done` hears the share of the work done so far
+// (probes, runs and the lossless one), for the progress display.
 Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                            const EncodeOptions& options, SourceImages& sources,
                            const std::vector<double>& factors, double min_psnr, const QualityAim& aim,
                            GroupAtlas& built, int& quality, const std::function<void(double)>& done) {
-  constexpr double kTrials = kMaxQualityTrials + 1;
-  int tried = 0;
+  // Progress: the probes weigh a tenth of a run each (a coder pass on
+  // layouts kept), then the runs and the lossless candidate.
+  constexpr double kProbeWeight = 0.1;
+  constexpr double kWork = kMaxQualityProbes * kProbeWeight + kMaxAdaptedRuns + 1;
+  double work = 0;
   std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
   LayoutMemo memo;                    // the layouts every quality starts from, built once
   LayoutMemo* const kept = options.layout_memo ? &memo : nullptr;
+  const double target = std::max(aim.goal, min_psnr);
+  // What build_adapted may do at a quality: raise the density through
+  // `factors`, and then (adaptive) halve texels below the factor reached.
+  const bool halves = min_psnr > 0 && options.adaptive_density;
+  auto probe = [&](int q, QualityProbe& out) -> Error {
+    EncodeOptions o = options;
+    o.image_quality = q;
+    out = {};
+    // One uniform layout at the quality: `reached` says whether it reaches.
+    auto try_layout = [&](double factor, int32_t step, bool& reached) -> Error {
+      StepBias bias;
+      if (step != 0) {
+        bias.resize(group.members.size());
+        for (size_t k = 0; k < group.members.size(); ++k)
+          bias[k].assign(plan.prims[group.members[k]].patch_count, step);
+      }
+      GroupAtlas atlas;
+      if (Error e = build_group_atlas(model, plan, group, o, sources, factor, bias, atlas, 0, kept);
+          e.failed())
+        return e;
+      const double psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;
+      reached = psnr >= target;
+      if (reached && (!out.reached || atlas.report.atlas_image_bytes < out.trial.bytes))
+        out = {true, {atlas.report.atlas_image_bytes, psnr}};
+      if (!out.reached) out.trial.psnr = std::max(out.trial.psnr, psnr);
+      return {};
+    };
+    // Up the density factors to the first that reaches, as build_to_floor
+    // goes, then fewer texels, a scale step at a time, while they still reach.
+    bool reached = false;
+    size_t i = 0;
+    for (; i < factors.size() && !reached; ++i)
+      if (Error e = try_layout(factors[i], 0, reached); e.failed()) return e;
+    constexpr int32_t kLowestStep = -8;  // a quarter of the texels per side
+    for (int32_t step = -1; halves && reached && step >= kLowestStep; --step)
+      if (Error e = try_layout(factors[i - 1], step, reached); e.failed()) return e;
+    done((work += kProbeWeight) / kWork);
+    return {};
+  };
   auto run = [&](int q, QualityTrial& trial) -> Error {
     EncodeOptions o = options;
     o.image_quality = q;
@@ -454,15 +496,15 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
       return e;
     trial.bytes = atlas.report.atlas_image_bytes;
     trial.psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;
-    done(++tried / kTrials);
+    done((work += 1) / kWork);
     return {};
   };
-  const double target = std::max(aim.goal, min_psnr);
   QualityChoice choice;
-  if (Error e = search_image_quality(target, run, choice); e.failed()) return e;
+  if (Error e = search_image_quality(target, probe, run, choice); e.failed()) return e;
   built = std::move(atlases[choice.quality]);
   built.report.image_quality = choice.quality;
   built.report.quality_trials = choice.trials;
+  built.report.quality_probes = choice.probes;
   built.report.quality_reached = choice.reached;
   quality = choice.quality;
   // Where every source is a PNG, as --image-format keep writes them: a
@@ -482,6 +524,7 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
     png.report.lossy_quality_beaten = choice.quality;
     png.report.lossy_bytes_beaten = built.report.atlas_image_bytes;
     png.report.quality_trials = choice.trials + 1;
+    png.report.quality_probes = choice.probes;
     png.report.quality_reached = true;
     built = std::move(png);
   }

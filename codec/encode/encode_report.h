@@ -175,8 +175,10 @@ struct AtlasReport {
   std::string explicit_image_mime;
   // Rate control (--target-psnr or --quality with a lossy coder and no
   // --image-quality; quality_search.h): the coder quality chosen (0: none
-  // searched), the qualities tried, and whether the chosen one reached the target.
+  // searched), the qualities probed at uniform densities and those run
+  // through the whole density pipeline, and whether the chosen one reached the target.
   int image_quality = 0;
+  int quality_probes = 0;
   int quality_trials = 0;
   bool quality_reached = false;
   // ... or rate control wrote the atlas losslessly (PNG): it reached the

@@ -85,6 +85,7 @@ struct SourceImage {
   OIIO::ImageBuf pixels;
   std::optional<std::vector<PaletteEntry>> palette;  // source_palette, once asked for
   std::map<JobKey, TextureSampler> samplers;
+  std::map<JobKey, SourceSamples> source_samples;  // each sampler's values at the measured points
   // Staged for the warp (warp.h), per slot encoding: every page and every
   // density round of the group warps from the one staging.
   std::map<SlotEncoding, std::shared_ptr<const StagedSource>> staged;

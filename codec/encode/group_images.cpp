@@ -257,7 +257,8 @@ TextureSampler page_sampler(const SlotSource& source, const OIIO::ImageBuf& show
 void measure_page_image(const SlotSource& source, const SlotCoding& coding, SourceImage& decoded,
                         const OIIO::ImageBuf& shown, std::span<const SurfaceUvs> uvs, GroupAtlas& out) {
   const TextureSampler& before = source_sampler(source, coding, decoded);
-  const SurfaceError e = surface_error(before, page_sampler(source, shown), uvs, 4'000'000, &out.patch_error);
+  const SurfaceError e = surface_error(before, page_sampler(source, shown), uvs, 4'000'000, &out.patch_error,
+                                       &decoded.source_samples[source.key]);
   out.error.add(e);
   out.image_error[source.image].add(e);
 }

@@ -1,13 +1,25 @@
 // Rate control of a lossy image coder (issue 16, item 3): the JPEG or WebP
 // quality whose atlas reaches a target surface PSNR with the fewest bytes.
 //
-// The density is not a second search here: each trial runs the encoder's
-// whole density pipeline at one coder quality (the boost toward the target,
-// then the adaptive halving that spends the headroom above it), so each
-// quality comes back with the density that suits it. Lower qualities cost
-// fewer bytes per texel but leave less headroom to halve texels, so the
-// fewest bytes usually sit between the ends: a grid from the top down, then
-// a bisection around the best.
+// Each quality comes with the density that suits it: lower qualities cost
+// fewer bytes per texel but need more texels, so the fewest bytes usually
+// sit between the ends. The density pipeline that finds it (the boost
+// toward the target, then the adaptive halving of patch by patch) takes
+// seconds per quality, most of it packing and warping layouts that no other
+// quality shares. So the search runs in two stages:
+//
+//   probe  every quality of a grid at a few uniform densities (the same
+//          density for every patch, stepped by 2^(1/4)): those layouts are
+//          packed and warped once and re-coded per quality (LayoutMemo), so
+//          a probe costs a coder pass and a measurement. It tells which
+//          qualities can reach the target at all and which reach it in the
+//          fewest bytes.
+//   run    the whole pipeline, at no more than kMaxAdaptedRuns qualities: from
+//          the probes' cheapest down to the lowest that reaches.
+//
+// On CesiumMilkTruck at --target-psnr 40 and 44 the full pipeline at every
+// grid quality had chosen q20 and q32; the probes put both inside the
+// qualities run.
 #pragma once
 
 #include <cstddef>
@@ -22,20 +34,34 @@ struct QualityTrial {
   double psnr = 0;   // and what it shows (the group's worst surface PSNR)
 };
 
+// A probe: the cheapest uniform density at the quality that reaches the
+// target (`reached`, its bytes and PSNR), else the best PSNR any reached.
+struct QualityProbe {
+  bool reached = false;
+  QualityTrial trial;
+};
+
 struct QualityChoice {
   int quality = 0;       // the chosen coder quality (1..100)
   QualityTrial trial;    // its result
   bool reached = false;  // it reaches the target; false: none did, the closest is chosen
-  int trials = 0;        // qualities tried
+  int probes = 0;        // qualities probed
+  int trials = 0;        // qualities run through the whole pipeline
 };
 
-// Tries qualities through `run` (each one once) and returns the reaching
-// one with the fewest bytes, else the one that came closest. Quality falls
-// with the coder's quality, but only roughly once the density adapts to
-// each, so the grid goes down from the top until a clear miss, then halves
-// the gap below the best. An error from `run` ends the search with it.
+using ProbeQuality = std::function<Error(int quality, QualityProbe& out)>;
 using RunQuality = std::function<Error(int quality, QualityTrial& out)>;
-constexpr int kMaxQualityTrials = 9;  // the most qualities one search tries
-Error search_image_quality(double target_psnr, const RunQuality& run, QualityChoice& out);
+constexpr int kMaxQualityProbes = 9;  // the grid and two bisections
+constexpr int kMaxAdaptedRuns = 3;    // the most qualities one search runs whole
+
+// Probes the grid from the top down until a quality cannot reach the target,
+// halves the gap below the lowest that can, then runs the qualities from
+// the probes' cheapest down to that lowest (at most kMaxAdaptedRuns of them:
+// both ends and one between) and returns the reaching one with the fewest
+// bytes. When no probe reaches, the quality whose probe came closest is run
+// and chosen. Each quality is probed and run at most once. An error from
+// either callback ends the search with it.
+Error search_image_quality(double target_psnr, const ProbeQuality& probe, const RunQuality& run,
+                           QualityChoice& out);
 
 }  // namespace gltfwarp

@@ -53,7 +53,7 @@ FaceSampling sample_faces(std::span<const SurfaceUvs> prims, double source_texel
 
 SurfaceError surface_error(const TextureSampler& source, const TextureSampler& atlas,
                            std::span<const SurfaceUvs> prims, uint64_t max_points,
-                           std::vector<SurfaceError>* per_group) {
+                           std::vector<SurfaceError>* per_group, SourceSamples* cache) {
   SurfaceError e;
   if (!source.ok || !atlas.ok) return e;
   const auto& spec = source.pixels.spec();
@@ -66,19 +66,44 @@ SurfaceError surface_error(const TextureSampler& source, const TextureSampler& a
   const std::vector<std::vector<int>>& side = sampling.side;
   const std::vector<std::vector<double>>& weight = sampling.weight;
   std::vector<SurfaceError> measured(faces.size());
+  // Each primitive's cached faces, made before the faces run side by side
+  // (each face then writes only its own entry).
+  std::vector<std::vector<SourceSamples::Face>*> cached(prims.size(), nullptr);
+  if (cache)
+    for (size_t p = 0; p < prims.size(); ++p) {
+      auto& entry = cache->prims[{prims[p].source_uv.data(), prims[p].source_uv.size()}];
+      entry.resize(std::max(entry.size(), side[p].size()));
+      cached[p] = &entry;
+    }
+  const size_t source_channels = size_t(std::max(1, source.channels()));
   OIIO::parallel_for_range(uint64_t(0), uint64_t(faces.size()), [&](uint64_t begin, uint64_t end) {
-    std::vector<float> a(size_t(std::max(1, source.channels()))), b(size_t(std::max(1, atlas.channels())));
+    std::vector<float> a(source_channels), b(size_t(std::max(1, atlas.channels())));
     for (uint64_t i = begin; i < end; ++i) {
       const auto [p, f] = faces[i];
       const float* s = &prims[p].source_uv[6 * size_t(f)];
       const float* d = &prims[p].atlas_uv[6 * size_t(f)];
       SurfaceError& face = measured[i];
       face = {};
-      for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
-        source.sample(w0 * s[0] + w1 * s[2] + w2 * s[4], w0 * s[1] + w1 * s[3] + w2 * s[5], a.data());
+      const int n = side[p][f];
+      SourceSamples::Face* kept = cached[p] ? &(*cached[p])[f] : nullptr;
+      const bool known = kept && kept->side == n;
+      if (kept && !known) {
+        kept->side = n;
+        kept->values.resize(size_t(n) * n * source_channels);
+      }
+      size_t point = 0;
+      for_each_surface_point(n, [&](double w0, double w1, double w2) {
+        const float* src = a.data();
+        if (known) {
+          src = &kept->values[point * source_channels];
+        } else {
+          source.sample(w0 * s[0] + w1 * s[2] + w2 * s[4], w0 * s[1] + w1 * s[3] + w2 * s[5], a.data());
+          if (kept) std::copy(a.begin(), a.end(), kept->values.begin() + ptrdiff_t(point * source_channels));
+        }
+        ++point;
         atlas.sample(w0 * d[0] + w1 * d[2] + w2 * d[4], w0 * d[1] + w1 * d[3] + w2 * d[5], b.data());
         for (int c = 0; c < channels; ++c) {
-          const double diff = 255.0 * (double(a[c]) - b[c]);
+          const double diff = 255.0 * (double(src[c]) - b[c]);
           face.squared += diff * diff;
         }
         face.values += channels;
