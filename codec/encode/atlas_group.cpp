@@ -252,6 +252,14 @@ void weigh_faces_by_area(ImplicitPlan& plan, const AtlasGroup& group) {
   }
 }
 
+// Every patch of every member `step` scale steps off the packer's choice.
+StepBias uniform_step_bias(const ImplicitPlan& plan, const AtlasGroup& group, int32_t step) {
+  StepBias bias(group.members.size());
+  for (size_t k = 0; k < group.members.size(); ++k)
+    bias[k].assign(plan.prims[group.members[k]].patch_count, step);
+  return bias;
+}
+
 // The quality a group's density aims at (quality_aim).
 struct QualityAim {
   double goal = 0;      // dB
@@ -275,9 +283,7 @@ Error spend_quality_headroom(const tinygltf::Model& model, ImplicitPlan& plan, c
                              const EncodeOptions& options, SourceImages& sources, double factor,
                              double min_psnr, const QualityAim& aim, GroupAtlas& built, LayoutMemo* memo) {
   constexpr int32_t kStep = -2;
-  StepBias bias(group.members.size());
-  for (size_t k = 0; k < group.members.size(); ++k)
-    bias[k].assign(plan.prims[group.members[k]].patch_count, 0);
+  StepBias bias = uniform_step_bias(plan, group, 0);
   const size_t source_bytes = replaceable_source_bytes(model, group, built);
   bool plan_follows_built = true;  // the plan's UVs are those of the last build
   for (int round = 0; round < options.adaptive_rounds; ++round) {
@@ -458,12 +464,8 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
     out = {};
     // One uniform layout at the quality: `reached` says whether it reaches.
     auto try_layout = [&](double factor, int32_t step, bool& reached) -> Error {
-      StepBias bias;
-      if (step != 0) {
-        bias.resize(group.members.size());
-        for (size_t k = 0; k < group.members.size(); ++k)
-          bias[k].assign(plan.prims[group.members[k]].patch_count, step);
-      }
+      // No bias at step 0: the layout build_to_floor makes (and memoises).
+      const StepBias bias = step != 0 ? uniform_step_bias(plan, group, step) : StepBias{};
       GroupAtlas atlas;
       if (Error e = build_group_atlas(model, plan, group, o, sources, factor, bias, atlas, 0, kept);
           e.failed())
