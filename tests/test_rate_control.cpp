@@ -88,37 +88,90 @@ TEST(QualitySearch, FindsTheCheapestReachingQualityOnAMonotoneCurve) {
   EXPECT_LE(choice.trials, kMaxAdaptedRuns);
 }
 
+// Runs a search on a table of probes: runs not in `adapted` cost
+// `otherwise`. The qualities run, in order, go to `runs`.
+static QualityChoice search_table(const std::map<int, QualityProbe>& probed,
+                                  const std::map<int, QualityTrial>& adapted, QualityTrial otherwise,
+                                  std::vector<int>& runs, double target = 40.0) {
+  QualityChoice choice;
+  const Error e = search_image_quality(
+      target,
+      [&](int q, QualityProbe& p) {
+        const auto it = probed.find(q);
+        p = it != probed.end() ? it->second : QualityProbe{false, {0, 39.0}};
+        return Error();
+      },
+      [&](int q, QualityTrial& t) {
+        runs.push_back(q);
+        const auto it = adapted.find(q);
+        t = it != adapted.end() ? it->second : otherwise;
+        return Error();
+      },
+      choice);
+  EXPECT_FALSE(e.failed());
+  return choice;
+}
+
 // The halving spends a quality's headroom on fewer texels, which a uniform
 // probe cannot: the cheapest run may sit below the cheapest probe, down to
-// the lowest quality that reaches. Both ends are run, and one between.
-TEST(QualitySearch, RunsFromTheCheapestProbeDownToTheLowestReaching) {
+// the lowest quality that reaches, or one probe step above it. Both ends
+// are run and the cheapest probe, then the quality between the two
+// cheapest runs.
+TEST(QualitySearch, RunsFromAboveTheCheapestProbeDownToTheLowestReachingThenBisects) {
   const std::map<int, QualityProbe> probed = {{95, {true, {30000, 45}}},   {85, {true, {20000, 44}}},
                                               {72, {true, {16000, 42}}},   {58, {true, {12000, 41}}},
                                               {45, {true, {13000, 40.5}}}, {32, {true, {14000, 40.2}}},
                                               {20, {true, {15000, 40.1}}}};
-  const std::map<int, QualityTrial> adapted = {{58, {10000, 40.1}}, {32, {9000, 40.0}}, {20, {9500, 40.0}}};
+  const std::map<int, QualityTrial> adapted = {
+      {72, {10500, 40.1}}, {58, {10000, 40.1}}, {20, {9500, 40.0}}, {39, {9000, 40.0}}};
   std::vector<int> runs;
-  QualityChoice choice;
-  ASSERT_FALSE(search_image_quality(
-                   40.0,
-                   [&](int q, QualityProbe& p) {
-                     p = probed.at(q);
-                     return Error();
-                   },
-                   [&](int q, QualityTrial& t) {
-                     runs.push_back(q);
-                     const auto it = adapted.find(q);
-                     t = it != adapted.end() ? it->second : QualityTrial{11000, 40.0};
-                     return Error();
-                   },
-                   choice)
-                   .failed());
-  EXPECT_EQ(runs, (std::vector<int>{58, 32, 20}));
+  const QualityChoice choice = search_table(probed, adapted, {11000, 40.0}, runs);
+  EXPECT_EQ(runs, (std::vector<int>{72, 58, 20, 39}));
   EXPECT_TRUE(choice.reached);
-  EXPECT_EQ(choice.quality, 32);
+  EXPECT_FALSE(choice.from_probe);
+  EXPECT_EQ(choice.quality, 39);
   EXPECT_EQ(choice.trial.bytes, 9000u);
   EXPECT_EQ(choice.probes, 7);
-  EXPECT_EQ(choice.trials, 3);
+  EXPECT_EQ(choice.trials, 4);
+  EXPECT_LE(choice.trials, kMaxAdaptedRuns);
+}
+
+// The Duck at 38 dB: the lowest grid quality is the cheapest probe, and
+// after the halving both it and the step above cost more than the quality
+// between them, which the old full search found by bisecting.
+TEST(QualitySearch, FindsTheValleyBetweenTheCheapestProbeAndTheStepAbove) {
+  const std::map<int, QualityProbe> probed = {{95, {true, {26805, 38.8}}},  {85, {true, {15688, 38.55}}},
+                                              {72, {true, {11551, 38.21}}}, {58, {true, {9641, 38.02}}},
+                                              {45, {true, {10318, 40.21}}}, {32, {true, {8943, 39.95}}},
+                                              {20, {true, {7985, 38.73}}}};
+  const std::map<int, QualityTrial> adapted = {{32, {5714, 38.37}}, {20, {6232, 38.36}}, {26, {5241, 39.02}}};
+  std::vector<int> runs;
+  const QualityChoice choice = search_table(probed, adapted, {99999, 40.0}, runs, 38.0);
+  EXPECT_EQ(runs, (std::vector<int>{32, 20, 26}));
+  EXPECT_EQ(choice.quality, 26);
+  EXPECT_EQ(choice.trial.bytes, 5241u);
+}
+
+// TwoSidedPlane at 38 dB: the q72 probe's uniform layout (8,676 B) is
+// cheaper than anything the pipeline builds from its floor; what is written
+// is the cheapest reaching atlas measured, probe or run.
+TEST(QualitySearch, AProbeCheaperThanEveryRunIsChosen) {
+  const std::map<int, QualityProbe> probed = {{95, {true, {12635, 40.45}}}, {85, {true, {10177, 40.52}}},
+                                              {72, {true, {8676, 40.05}}},  {58, {true, {10720, 40.11}}},
+                                              {45, {true, {11352, 40.29}}}, {32, {true, {14087, 40.07}}}};
+  std::vector<int> runs;
+  const QualityChoice choice = search_table(probed, {}, {13000, 40.4}, runs);
+  EXPECT_FALSE(runs.empty());
+  EXPECT_TRUE(choice.reached);
+  EXPECT_TRUE(choice.from_probe);
+  EXPECT_EQ(choice.quality, 72);
+  EXPECT_EQ(choice.trial.bytes, 8676u);
+  EXPECT_EQ(choice.trials, int(runs.size()));
+  // A run as cheap as the probe is preferred (the pipeline's own atlas).
+  std::vector<int> again;
+  const QualityChoice tie = search_table(probed, {{72, {8676, 40.2}}}, {13000, 40.4}, again);
+  EXPECT_FALSE(tie.from_probe);
+  EXPECT_EQ(tie.quality, 72);
 }
 
 // A quality that cannot reach the target at the densest layout ends the
@@ -289,4 +342,40 @@ TEST(RateControl, ALosslessAtlasIsWrittenWhereItReachesTheTargetInFewerBytes) {
   EXPECT_EQ(controlled.atlas_image_bytes, lossless.atlas_image_bytes) << "the same atlas as keep writes";
   EXPECT_LT(controlled.atlas_image_bytes, controlled.lossy_bytes_beaten);
   EXPECT_EQ(controlled.image_quality, 0) << "no JPEG quality is reported for a PNG atlas";
+  // Judged where a viewer minifies too, and no worse there.
+  EXPECT_TRUE(controlled.lossless_judged_minified);
+  EXPECT_LE(controlled.lossless_minified_loss, 0.5);
+}
+
+// The lossless candidate is written only where it holds up where a viewer
+// minifies: the halving spends a PNG atlas's large headroom at full
+// resolution on fewer texels, which the coarser MIP levels show. On the
+// Duck, over targets from the floor to 44 dB, every time the PNG reached
+// the target in fewer bytes the encoder either wrote it, no more than the
+// tolerance worse at MIP levels 1-3 than the JPEG choice, or kept the JPEG
+// and said by how much the PNG lost there; and the PNG is refused at least
+// once (at 40 dB it loses about 1 dB at level 1).
+TEST(RateControl, TheLosslessCandidateMustHoldUpWhereAViewerMinifies) {
+  GLTFWARP_REQUIRE_CORPUS();
+  int refused = 0;
+  for (const double target : {38.0, 40.0, 44.0}) {
+    AtlasReport a;
+    ASSERT_TRUE(encode_duck_jpeg([&](EncodeOptions& o) { o.goal_psnr = target; }, a));
+    std::printf("Duck at %.0f dB: %s %zu B %.2f dB; PNG judged minified %d, loss %.2f dB, refused %zu B\n",
+                target, a.lossless_chosen ? "PNG" : "JPEG", a.atlas_image_bytes, a.psnr,
+                a.lossless_judged_minified, a.lossless_minified_loss, a.lossless_bytes_refused);
+    EXPECT_GE(a.psnr, target);
+    if (a.lossless_chosen) {
+      EXPECT_LE(a.lossless_minified_loss, 0.5) << target;
+      EXPECT_EQ(a.lossless_bytes_refused, 0u);
+    }
+    if (a.lossless_bytes_refused > 0) {
+      ++refused;
+      EXPECT_FALSE(a.lossless_chosen);
+      EXPECT_TRUE(a.lossless_judged_minified);
+      EXPECT_GT(a.lossless_minified_loss, 0.5) << target;
+      EXPECT_LT(a.lossless_bytes_refused, a.atlas_image_bytes) << "only a smaller PNG is judged";
+    }
+  }
+  EXPECT_GE(refused, 1);
 }

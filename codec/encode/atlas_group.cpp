@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -267,6 +268,9 @@ struct QualityAim {
   bool strict = false;  // never halve texels below the goal, even while the images outweigh their sources
 };
 constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
+// The lossless candidate may be this much worse than the lossy choice at a
+// minified MIP level (mean) and still replace it.
+constexpr double kMinifiedTolerance = 0.5;
 
 // Smooth content keeps its quality with fewer texels. Each round measures
 // every patch at two scale steps less than now (half its texels), then
@@ -451,8 +455,9 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   constexpr double kProbeWeight = 0.1;
   constexpr double kWork = kMaxQualityProbes * kProbeWeight + kMaxAdaptedRuns + 1;
   double work = 0;
-  std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
-  LayoutMemo memo;                    // the layouts every quality starts from, built once
+  std::map<int, GroupAtlas> atlases;        // by quality: the chosen one is kept, not built again
+  std::map<int, GroupAtlas> probe_atlases;  // by quality: the probes' cheapest reaching layouts
+  LayoutMemo memo;                          // the layouts every quality starts from, built once
   LayoutMemo* const kept = options.layout_memo ? &memo : nullptr;
   const double target = std::max(aim.goal, min_psnr);
   // What build_adapted may do at a quality: raise the density through
@@ -472,8 +477,17 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
         return e;
       const double psnr = atlas.error.values > 0 ? atlas.floor_psnr() : 0;
       reached = psnr >= target;
-      if (reached && (!out.reached || atlas.report.atlas_image_bytes < out.trial.bytes))
-        out = {true, {atlas.report.atlas_image_bytes, psnr}};
+      const size_t bytes = atlas.report.atlas_image_bytes;
+      if (reached && (!out.reached || bytes < out.trial.bytes)) out = {true, {bytes, psnr}};
+      // The cheapest reaching layouts of all probes are kept: the search
+      // may write one (QualityChoice::from_probe).
+      if (reached &&
+          (probe_atlases.empty() || bytes <= probe_atlases.begin()->second.report.atlas_image_bytes)) {
+        std::erase_if(probe_atlases, [&](const auto& kept_one) {
+          return kept_one.second.report.atlas_image_bytes > bytes || kept_one.first == q;
+        });
+        probe_atlases.emplace(q, std::move(atlas));
+      }
       if (!out.reached) out.trial.psnr = std::max(out.trial.psnr, psnr);
       return {};
     };
@@ -503,11 +517,13 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   };
   QualityChoice choice;
   if (Error e = search_image_quality(target, probe, run, choice); e.failed()) return e;
-  built = std::move(atlases[choice.quality]);
+  built = std::move(choice.from_probe ? probe_atlases[choice.quality] : atlases[choice.quality]);
+  if (built.jobs.empty()) return {ErrorCode::internal, "rate control lost the atlas it chose"};
   built.report.image_quality = choice.quality;
   built.report.quality_trials = choice.trials;
   built.report.quality_probes = choice.probes;
   built.report.quality_reached = choice.reached;
+  built.report.quality_uniform = choice.from_probe;
   quality = choice.quality;
   // Where every source is a PNG, as --image-format keep writes them: a
   // source's palette then stays the atlas's (snap_page_image).
@@ -521,7 +537,33 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
     return e;
   done(1.0);
   const bool png_reaches = png.error.values > 0 && png.floor_psnr() >= target;
-  if (png_reaches && (!choice.reached || png.report.atlas_image_bytes < built.report.atlas_image_bytes)) {
+  bool png_wins =
+      png_reaches && (!choice.reached || png.report.atlas_image_bytes < built.report.atlas_image_bytes);
+  if (png_wins && choice.reached) {
+    // Smaller, and as good where a viewer minifies? The halving spends a
+    // lossless atlas's headroom on fewer texels, which level 0 does not
+    // show but the coarser levels do.
+    MipQualityOptions same_views;
+    same_views.source_footprint = true;  // the two may differ in density
+    if (Error e = measure_mip_levels(model, plan, group, lossless, sources, png, same_views); e.failed())
+      return e;
+    EncodeOptions chosen = options;
+    chosen.image_quality = choice.quality;
+    // The measure reads the plan's UVs, which follow the last atlas built.
+    if (Error e = follow_streams(plan, group, built); e.failed()) return e;
+    if (Error e = measure_mip_levels(model, plan, group, chosen, sources, built, same_views); e.failed())
+      return e;
+    double loss = -std::numeric_limits<double>::infinity();
+    for (size_t l = 1; l < kMipLevels; ++l)
+      loss = std::max(loss, built.report.mip_psnr[l] - png.report.mip_psnr[l]);
+    png_wins = !(loss > kMinifiedTolerance);
+    for (AtlasReport* r : {&built.report, &png.report}) {
+      r->lossless_judged_minified = true;
+      r->lossless_minified_loss = loss;
+      r->lossless_bytes_refused = png_wins ? 0 : png.report.atlas_image_bytes;
+    }
+  }
+  if (png_wins) {
     png.report.lossless_chosen = true;
     png.report.lossy_quality_beaten = choice.quality;
     png.report.lossy_bytes_beaten = built.report.atlas_image_bytes;
