@@ -442,9 +442,10 @@ bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, cons
 // as one more candidate: on flat, few-coloured content its atlas can reach a
 // high target in fewer bytes than any JPEG quality (the Duck at 44 dB: a
 // 9.9 KB PNG atlas against 14.9 KB at the best JPEG quality, q75, which also
-// made explicit UVs look cheaper). It is written where it reaches the target and
-// is smaller; `quality` stays the lossy search's, for the sources of a group
-// that keeps explicit UVs. `done` hears the share of the work done so far
+// made explicit UVs look cheaper). It is written where it reaches the target,
+// is smaller, and holds up where a viewer minifies (kMinifiedTolerance);
+// `quality` stays the lossy search's, for the sources of a group that keeps
+// explicit UVs. `done` hears the share of the work done so far
 // (probes, runs and the lossless one), for the progress display.
 Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                            const EncodeOptions& options, SourceImages& sources,
