@@ -324,7 +324,7 @@ Error equal_quality_images(const tinygltf::Model& model, const ImplicitPlan& pla
       Coded again;
       if (Error e = code(pixels, mime, q, again, true); e.failed()) return e;
       for (int l = 0; l < kMipLevels; ++l)
-        if (again.at_mips.level[l].values && again.at_mips.level[l].psnr() < target_psnr) return {};
+        if (again.at_mips.level[l].values != 0 && again.at_mips.level[l].psnr() < target_psnr) return {};
       consider(c, q, f);
       return {};
     };

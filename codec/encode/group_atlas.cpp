@@ -231,7 +231,7 @@ Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan,
     }
   }
   for (size_t l = 0; l < kMipLevels; ++l) {
-    built.report.mip_psnr[l] = built.mip.level[l].values ? built.mip.level[l].psnr() : 0;
+    built.report.mip_psnr[l] = built.mip.level[l].values != 0 ? built.mip.level[l].psnr() : 0;
     built.report.worst_psnr[l] = built.mip.worst_psnr[l];
   }
   return {};

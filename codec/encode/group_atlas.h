@@ -62,9 +62,9 @@ struct GroupAtlas {
   // not only the group's images on average.
   std::map<int, SurfaceError> image_error;
   double floor_psnr() const {
-    double worst = error.values ? error.psnr() : 0;
+    double worst = error.values != 0 ? error.psnr() : 0;
     for (const auto& [image, e] : image_error)
-      if (e.values) worst = std::min(worst, e.psnr());
+      if (e.values != 0) worst = std::min(worst, e.psnr());
     return worst;
   }
   bool capped = false;       // the atlas was shrunk to fit --max-atlas-size
