@@ -350,32 +350,22 @@ TEST(RateControl, ALosslessAtlasIsWrittenWhereItReachesTheTargetInFewerBytes) {
 // The lossless candidate is written only where it holds up where a viewer
 // minifies: the halving spends a PNG atlas's large headroom at full
 // resolution on fewer texels, which the coarser MIP levels show. On the
-// Duck, over targets from the floor to 44 dB, every time the PNG reached
-// the target in fewer bytes the encoder either wrote it, no more than the
-// tolerance worse at MIP levels 1-3 than the JPEG choice, or kept the JPEG
-// and said by how much the PNG lost there; and the PNG is refused at least
-// once (at 40 dB it loses about 1 dB at level 1).
-TEST(RateControl, TheLosslessCandidateMustHoldUpWhereAViewerMinifies) {
+// Duck at 40 dB the PNG atlas reaches the target in fewer bytes than the
+// JPEG choice but loses about 1 dB at MIP level 1 (the same views of both),
+// so the JPEG is written and the report says what the PNG lost. (Where the
+// PNG holds up and is written, the Duck at 44 dB: the test above.)
+TEST(RateControl, ALosslessAtlasThatLosesWhereAViewerMinifiesIsRefused) {
   GLTFWARP_REQUIRE_CORPUS();
-  int refused = 0;
-  for (const double target : {38.0, 40.0, 44.0}) {
-    AtlasReport a;
-    ASSERT_TRUE(encode_duck_jpeg([&](EncodeOptions& o) { o.goal_psnr = target; }, a));
-    std::printf("Duck at %.0f dB: %s %zu B %.2f dB; PNG judged minified %d, loss %.2f dB, refused %zu B\n",
-                target, a.lossless_chosen ? "PNG" : "JPEG", a.atlas_image_bytes, a.psnr,
-                a.lossless_judged_minified, a.lossless_minified_loss, a.lossless_bytes_refused);
-    EXPECT_GE(a.psnr, target);
-    if (a.lossless_chosen) {
-      EXPECT_LE(a.lossless_minified_loss, 0.5) << target;
-      EXPECT_EQ(a.lossless_bytes_refused, 0u);
-    }
-    if (a.lossless_bytes_refused > 0) {
-      ++refused;
-      EXPECT_FALSE(a.lossless_chosen);
-      EXPECT_TRUE(a.lossless_judged_minified);
-      EXPECT_GT(a.lossless_minified_loss, 0.5) << target;
-      EXPECT_LT(a.lossless_bytes_refused, a.atlas_image_bytes) << "only a smaller PNG is judged";
-    }
-  }
-  EXPECT_GE(refused, 1);
+  AtlasReport a;
+  ASSERT_TRUE(encode_duck_jpeg([](EncodeOptions&) {}, a));
+  std::printf("Duck at 40 dB: %s %zu B %.2f dB; PNG judged minified %d, loss %.2f dB, refused %zu B\n",
+              a.lossless_chosen ? "PNG" : "JPEG", a.atlas_image_bytes, a.psnr, a.lossless_judged_minified,
+              a.lossless_minified_loss, a.lossless_bytes_refused);
+  EXPECT_GE(a.psnr, 40.0);
+  ASSERT_TRUE(a.lossless_judged_minified) << "precondition: the PNG reached the target in fewer bytes";
+  EXPECT_FALSE(a.lossless_chosen);
+  EXPECT_GT(a.lossless_minified_loss, 0.5);
+  EXPECT_GT(a.lossless_bytes_refused, 0u);
+  EXPECT_LT(a.lossless_bytes_refused, a.atlas_image_bytes) << "only a smaller PNG is judged";
+  EXPECT_GT(a.image_quality, 0);
 }
