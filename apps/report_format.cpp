@@ -228,11 +228,6 @@ void print_encode_report(const EncodeReport& r, const std::string& in, const std
                   a.quality_reached ? "as the fewest bytes reaching the target"
                                     : "as the closest tried: none reached the target",
                   a.quality_uniform ? ", at a uniform density" : "", a.quality_probes, a.quality_trials);
-    if (a.lossless_bytes_refused > 0)
-      std::printf(
-          "  rate control: kept it over a PNG atlas of %zu bytes that reached the target but loses %.1f dB "
-          "where a viewer minifies (MIP levels 1-3, the same views)\n",
-          a.lossless_bytes_refused, a.lossless_minified_loss);
     if (a.lossless_chosen)
       std::printf(
           "  rate control: chose PNG, as it reaches the target in fewer bytes than the best lossy quality "

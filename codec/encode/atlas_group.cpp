@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <limits>
 #include <map>
 #include <set>
 
@@ -268,9 +267,6 @@ struct QualityAim {
   bool strict = false;  // never halve texels below the goal, even while the images outweigh their sources
 };
 constexpr double kTransparentPsnr = 44.0, kLossyGoalPsnr = 40.0;
-// The lossless candidate may be this much worse than the lossy choice at a
-// minified MIP level (mean) and still replace it.
-constexpr double kMinifiedTolerance = 0.5;
 
 // Smooth content keeps its quality with fewer texels. Each round measures
 // every patch at two scale steps less than now (half its texels), then
@@ -442,10 +438,9 @@ bool rate_controlled(const tinygltf::Model& model, const AtlasGroup& group, cons
 // as one more candidate: on flat, few-coloured content its atlas can reach a
 // high target in fewer bytes than any JPEG quality (the Duck at 44 dB: a
 // 9.9 KB PNG atlas against 14.9 KB at the best JPEG quality, q75, which also
-// made explicit UVs look cheaper). It is written where it reaches the target,
-// is smaller, and holds up where a viewer minifies (kMinifiedTolerance);
-// `quality` stays the lossy search's, for the sources of a group that keeps
-// explicit UVs. `done` hears the share of the work done so far
+// made explicit UVs look cheaper). It is written where it reaches the target and
+// is smaller; `quality` stays the lossy search's, for the sources of a group
+// that keeps explicit UVs. `done` hears the share of the work done so far
 // (probes, runs and the lossless one), for the progress display.
 Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, const AtlasGroup& group,
                            const EncodeOptions& options, SourceImages& sources,
@@ -538,33 +533,7 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
     return e;
   done(1.0);
   const bool png_reaches = png.error.values > 0 && png.floor_psnr() >= target;
-  bool png_wins =
-      png_reaches && (!choice.reached || png.report.atlas_image_bytes < built.report.atlas_image_bytes);
-  if (png_wins && choice.reached) {
-    // Smaller, and as good where a viewer minifies? The halving spends a
-    // lossless atlas's headroom on fewer texels, which level 0 does not
-    // show but the coarser levels do.
-    MipQualityOptions same_views;
-    same_views.source_footprint = true;  // the two may differ in density
-    if (Error e = measure_mip_levels(model, plan, group, lossless, sources, png, same_views); e.failed())
-      return e;
-    EncodeOptions chosen = options;
-    chosen.image_quality = choice.quality;
-    // The measure reads the plan's UVs, which follow the last atlas built.
-    if (Error e = follow_streams(plan, group, built); e.failed()) return e;
-    if (Error e = measure_mip_levels(model, plan, group, chosen, sources, built, same_views); e.failed())
-      return e;
-    double loss = -std::numeric_limits<double>::infinity();
-    for (size_t l = 1; l < kMipLevels; ++l)
-      loss = std::max(loss, built.report.mip_psnr[l] - png.report.mip_psnr[l]);
-    png_wins = !(loss > kMinifiedTolerance);
-    for (AtlasReport* r : {&built.report, &png.report}) {
-      r->lossless_judged_minified = true;
-      r->lossless_minified_loss = loss;
-      r->lossless_bytes_refused = png_wins ? 0 : png.report.atlas_image_bytes;
-    }
-  }
-  if (png_wins) {
+  if (png_reaches && (!choice.reached || png.report.atlas_image_bytes < built.report.atlas_image_bytes)) {
     png.report.lossless_chosen = true;
     png.report.lossy_quality_beaten = choice.quality;
     png.report.lossy_bytes_beaten = built.report.atlas_image_bytes;

@@ -188,13 +188,6 @@ struct AtlasReport {
   bool lossless_chosen = false;
   int lossy_quality_beaten = 0;
   size_t lossy_bytes_beaten = 0;
-  // Where the lossless candidate reached the target in fewer bytes, it was
-  // also judged where a viewer minifies (MIP levels 1..3, the same views of
-  // both): its largest loss there against the lossy choice (dB, negative:
-  // a gain) and, where that loss kept the lossy one, its bytes.
-  bool lossless_judged_minified = false;
-  double lossless_minified_loss = 0;
-  size_t lossless_bytes_refused = 0;
   double fit_gain_db = 0;  // least-squares texels: dB gained over point samples (linear light, colour slots)
   double fit_seconds = 0;  // time the fit took, over the images and pages
 };

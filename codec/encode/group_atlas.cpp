@@ -204,8 +204,7 @@ Error measure_group_atlas(const tinygltf::Model& model, ImplicitPlan& plan, cons
 }
 
 Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built,
-                         const MipQualityOptions& mip_options) {
+                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built) {
   built.mip = {};
   for (const SlotSource& source : slot_sources(model, group)) {
     if (source.slot.normal_map) continue;  // colour slots only, as measure_page_image
@@ -223,7 +222,7 @@ Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan,
         return {ErrorCode::internal,
                 "image " + std::to_string(source.image) + ": cannot read back the coded atlas: " + why};
       if (reference.empty()) reference = group_mip_reference(model, plan, group, source, coding, *decoded);
-      const MipQuality mq = mip_surface_error(reference, page_sampler(source, shown), uvs, mip_options);
+      const MipQuality mq = mip_surface_error(reference, page_sampler(source, shown), uvs);
       if (built.mip.level[0].values == 0)
         built.mip = mq;
       else

@@ -279,8 +279,7 @@ std::vector<SurfaceUvs> page_surface_uvs(const tinygltf::Model& model, const Imp
 // colour page, from its coded bytes. Four passes per page, so they are
 // measured once, on the final build, not in every density round's.
 Error measure_mip_levels(const tinygltf::Model& model, const ImplicitPlan& plan, const AtlasGroup& group,
-                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built,
-                         const MipQualityOptions& mip_options = {});
+                         const EncodeOptions& options, SourceImages& sources, GroupAtlas& built);
 
 // The MIP reference (mip_quality.h) of a slot source, from every face of
 // the group that shows its image: for measure_mip_levels on each page.

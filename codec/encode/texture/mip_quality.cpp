@@ -147,15 +147,11 @@ MipQuality mip_surface_error(std::span<const TextureSampler> schain, const Textu
         const double da = face_area_texels(prims[p].atlas_uv, f, 1, 1) * atlas_texels;
         if (!(da > 0)) continue;
         in_atlas[i] = 1;
-        // Level l: a screen footprint of 2^l texels of the coarser grid
-        // (with source_footprint, 2^l source texels: 2^(l - rho) atlas
-        // ones); each side at its own LOD there (trilinear), so level 0
-        // magnifies both (the plain surface PSNR).
+        // Level l: a screen footprint of 2^l texels of the finer grid; each
+        // side at its own LOD there (trilinear), so level 0 magnifies both (the plain surface PSNR).
         const double rho = 0.5 * std::log2(std::max(sa, 1e-30) / da);  // log2 source texels per atlas texel
-        const double slod =
-            std::clamp(options.source_footprint ? l : l + std::max(0.0, rho), 0.0, double(schain.size() - 1));
-        const double alod = std::clamp(options.source_footprint ? l - rho : l + std::max(0.0, -rho), 0.0,
-                                       double(achain.size() - 1));
+        const double slod = std::clamp(l + std::max(0.0, rho), 0.0, double(schain.size() - 1));
+        const double alod = std::clamp(l + std::max(0.0, -rho), 0.0, double(achain.size() - 1));
         SurfaceError& face = measured[i];
         for_each_surface_point(side[p][f], [&](double w0, double w1, double w2) {
           const double us = w0 * s[0] + w1 * s[2] + w2 * s[4], vs = w0 * s[1] + w1 * s[3] + w2 * s[5];

@@ -32,11 +32,6 @@ constexpr int kMipLevels = 4;  // levels 0..3: a 4-texel gutter is one texel at 
 struct MipQualityOptions {
   uint64_t max_points = 1'000'000;  // points per level at most (faces spread as surface_error)
   double worst_fraction = 0.01;     // the worst region: the worst patches holding this share of points
-  // Level L a footprint of 2^L *source* texels on every face, whatever the
-  // atlas's density: the same views for two atlases of one source at
-  // different densities, so that they compare (by default the coarser
-  // grid's texels, which moves the views with the atlas's density).
-  bool source_footprint = false;
 };
 
 struct MipQuality {
