@@ -451,9 +451,13 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   constexpr double kProbeWeight = 0.1;
   constexpr double kWork = kMaxQualityProbes * kProbeWeight + kMaxAdaptedRuns + 1;
   double work = 0;
-  std::map<int, GroupAtlas> atlases;        // by quality: the chosen one is kept, not built again
-  std::map<int, GroupAtlas> probe_atlases;  // by quality: the probes' cheapest reaching layouts
-  LayoutMemo memo;                          // the layouts every quality starts from, built once
+  std::map<int, GroupAtlas> atlases;  // by quality: the chosen one is kept, not built again
+  // The cheapest reaching layout of all probes (the search may write it,
+  // QualityChoice::from_probe) and its quality: on a tie the lower quality,
+  // as the search picks its cheapest probe.
+  GroupAtlas probe_atlas;
+  int probe_quality = 0;
+  LayoutMemo memo;  // the layouts every quality starts from, built once
   LayoutMemo* const kept = options.layout_memo ? &memo : nullptr;
   const double target = std::max(aim.goal, min_psnr);
   // What build_adapted may do at a quality: raise the density through
@@ -475,14 +479,11 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
       reached = psnr >= target;
       const size_t bytes = atlas.report.atlas_image_bytes;
       if (reached && (!out.reached || bytes < out.trial.bytes)) out = {true, {bytes, psnr}};
-      // The cheapest reaching layouts of all probes are kept: the search
-      // may write one (QualityChoice::from_probe).
+      const size_t kept_bytes = probe_atlas.report.atlas_image_bytes;
       if (reached &&
-          (probe_atlases.empty() || bytes <= probe_atlases.begin()->second.report.atlas_image_bytes)) {
-        std::erase_if(probe_atlases, [&](const auto& kept_one) {
-          return kept_one.second.report.atlas_image_bytes > bytes || kept_one.first == q;
-        });
-        probe_atlases.emplace(q, std::move(atlas));
+          (probe_quality == 0 || bytes < kept_bytes || (bytes == kept_bytes && q < probe_quality))) {
+        probe_atlas = std::move(atlas);
+        probe_quality = q;
       }
       if (!out.reached) out.trial.psnr = std::max(out.trial.psnr, psnr);
       return {};
@@ -513,8 +514,9 @@ Error choose_image_quality(const tinygltf::Model& model, ImplicitPlan& plan, con
   };
   QualityChoice choice;
   if (Error e = search_image_quality(target, probe, run, choice); e.failed()) return e;
-  built = std::move(choice.from_probe ? probe_atlases[choice.quality] : atlases[choice.quality]);
-  if (built.jobs.empty()) return {ErrorCode::internal, "rate control lost the atlas it chose"};
+  if (choice.from_probe && choice.quality != probe_quality)
+    return {ErrorCode::internal, "rate control chose a probe's layout it did not keep"};
+  built = std::move(choice.from_probe ? probe_atlas : atlases[choice.quality]);
   built.report.image_quality = choice.quality;
   built.report.quality_trials = choice.trials;
   built.report.quality_probes = choice.probes;

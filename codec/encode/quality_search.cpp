@@ -80,30 +80,26 @@ Error search_image_quality(double target_psnr, const ProbeQuality& probe, const 
   };
   for (int q : candidates)
     if (Error e = run_at(q); e.failed()) return e;
+  // The reaching run with the fewest bytes other than `except` (0: none).
+  auto cheapest_run = [&](int except) {
+    int found = 0;
+    for (const auto& [q, t] : ran)
+      if (q != except && t.psnr >= target_psnr && (found == 0 || t.bytes < ran[found].bytes)) found = q;
+    return found;
+  };
   // Between the two cheapest reaching runs, where they are more than two
   // apart: the cost over quality after the halving has a valley the grid
   // can step over (the Duck at 38 dB: q32 and q20 both dearer than q26).
-  auto cheaper = [&](int a, int b) { return b == 0 || ran[a].bytes < ran[b].bytes; };
-  int first = 0, second = 0;
-  for (const auto& [q, t] : ran) {
-    if (!(t.psnr >= target_psnr)) continue;
-    if (cheaper(q, first)) {
-      second = first;
-      first = q;
-    } else if (cheaper(q, second)) {
-      second = q;
-    }
-  }
-  if (first != 0 && second != 0 && std::abs(first - second) > 2) {
+  const int first = cheapest_run(0), second = first != 0 ? cheapest_run(first) : 0;
+  if (second != 0 && std::abs(first - second) > 2) {
     const int mid = (first + second) / 2;
     if (!ran.count(mid))
       if (Error e = run_at(mid); e.failed()) return e;
   }
-  int best = 0, closest = 0;
-  for (const auto& [q, t] : ran) {
-    if (t.psnr >= target_psnr && (best == 0 || t.bytes < ran[best].bytes)) best = q;
+  const int best = cheapest_run(0);
+  int closest = 0;
+  for (const auto& [q, t] : ran)
     if (closest == 0 || t.psnr > ran[closest].psnr) closest = q;
-  }
   out.trials = static_cast<int>(ran.size());
   // A probe's uniform layout is an atlas too: the cheapest reaching one is
   // written where no run beat it (TwoSidedPlane at 38 dB: the q72 probe's

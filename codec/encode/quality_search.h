@@ -58,9 +58,9 @@ struct QualityChoice {
 
 using ProbeQuality = std::function<Error(int quality, QualityProbe& out)>;
 using RunQuality = std::function<Error(int quality, QualityTrial& out)>;
-constexpr int kMaxQualityProbes = 9;  // the grid and two bisections
-constexpr int kSpanRuns = 3;          // the qualities run whole across the probed span
-constexpr int kMaxAdaptedRuns = 4;    // and one bisection after them
+constexpr int kMaxQualityProbes = 9;            // the grid and two bisections
+constexpr int kSpanRuns = 3;                    // the qualities run whole across the probed span
+constexpr int kMaxAdaptedRuns = kSpanRuns + 1;  // and one bisection after them
 
 // Probes the grid from the top down until a quality cannot reach the target,
 // halves the gap below the lowest that can, then runs the qualities from
